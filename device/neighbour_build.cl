@@ -1,0 +1,224 @@
+/* neighbour_build.cl — the configuration rebuild of each advection step.
+ *
+ * Cell sorting: every particle gets the key (cell << 32 | current index);
+ * the keys are sorted (bitonic sort on the device, a stable counting sort on
+ * the CPU: both give the same order), all particle fields are gathered into
+ * the sorted order, cell ranges are found from the sorted keys, and each
+ * particle gathers its neighbours from the 3^d surrounding cells.
+ *
+ * The pair geometry is frozen here for the whole advection step (reference
+ * notes §0.5 and §4): e_ij (from j to i), dW/dr V_j and 1/r_ij per pair, and
+ * the kernel-gradient correction matrix (003 eq. 21)
+ *     B_i = (-sum_j r_ij (x) grad_i W_ij V_j)^-1
+ * computed as a Tikhonov-regularised inverse so that a particle with a
+ * degenerate support (isolated, or on a line) gets a finite B.
+ */
+#include "sph_vec.h"
+#include "sph_smoothing_kernel.h"
+
+#define SPH_TIKHONOV_EPS R(1e-8)
+#define SORT_PAD_KEY ((ulong)0xFFFFFFFFFFFFFFFFUL)
+
+/* Grid geometry buffer: origin (SPH_DIM entries, padded to 3), then 1/cell. */
+#define GRID_INV_CELL 3
+
+FN int cell_coordinate(const real x, const real origin, const real inv_cell, const int cells) {
+    int c = (int)floor((x - origin) * inv_cell);
+    return c < 0 ? 0 : (c >= cells ? cells - 1 : c);
+}
+
+FN int cell_index_of(const vec x, GLOBAL const real *grid_geom, const int gx, const int gy,
+                     const int gz) {
+    const real inv_cell = grid_geom[GRID_INV_CELL];
+    const int cx = cell_coordinate(x.c[0], grid_geom[0], inv_cell, gx);
+    const int cy = cell_coordinate(x.c[1], grid_geom[1], inv_cell, gy);
+#if SPH_DIM == 3
+    const int cz = cell_coordinate(x.c[2], grid_geom[2], inv_cell, gz);
+    return cx + gx * (cy + gy * cz);
+#else
+    (void)gz;
+    return cx + gx * cy;
+#endif
+}
+
+/* Keys for the sort; items in [n, npad) pad the power-of-two sort. */
+KERNEL void cell_keys(ITEM_PARAM const int n, const int npad, GLOBAL const real *restrict pos,
+                      GLOBAL const real *restrict grid_geom, const int gx, const int gy,
+                      const int gz, GLOBAL ulong *restrict keys) {
+    const int i = ITEM_ID;
+    if (i >= npad) return;
+    if (i >= n) {
+        keys[i] = SORT_PAD_KEY;
+        return;
+    }
+    const ulong cell = (ulong)cell_index_of(vec_load(pos, n, i), grid_geom, gx, gy, gz);
+    keys[i] = (cell << 32) | (ulong)i;
+}
+
+FN int key_index(const ulong key) { return (int)(key & (ulong)0xFFFFFFFFUL); }
+FN int key_cell(const ulong key) { return (int)(key >> 32); }
+
+/* Gather one field into the sorted order: dst[c][k] = src[c][perm k]. */
+KERNEL void permute_real(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,
+                         GLOBAL const real *restrict src, GLOBAL real *restrict dst) {
+    const int k = ITEM_ID;
+    if (k >= n) return;
+    const int from = key_index(keys[k]);
+    for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];
+}
+KERNEL void permute_int(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,
+                        GLOBAL const int *restrict src, GLOBAL int *restrict dst) {
+    const int k = ITEM_ID;
+    if (k >= n) return;
+    const int from = key_index(keys[k]);
+    for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];
+}
+KERNEL void permute_u8(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,
+                       GLOBAL const u8 *restrict src, GLOBAL u8 *restrict dst) {
+    const int k = ITEM_ID;
+    if (k >= n) return;
+    const int from = key_index(keys[k]);
+    for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];
+}
+
+/* First and one-past-last sorted index of each occupied cell (the ranges of
+ * empty cells were zero-filled before). */
+KERNEL void cell_ranges(ITEM_PARAM const int n, GLOBAL const ulong *restrict keys,
+                        GLOBAL int *restrict cell_start, GLOBAL int *restrict cell_end) {
+    const int k = ITEM_ID;
+    if (k >= n) return;
+    const int cell = key_cell(keys[k]);
+    if (k == 0 || key_cell(keys[k - 1]) != cell) cell_start[cell] = k;
+    if (k == n - 1 || key_cell(keys[k + 1]) != cell) cell_end[cell] = k + 1;
+}
+
+/* B = (A^T A + eps I)^-1 A^T (the reference's Tikhonov inverse). */
+FN mat correction_matrix(const mat a) {
+    mat ata = mat_mul(mat_transpose(a), a);
+    for (int d = 0; d < SPH_DIM; ++d) ata.m[d][d] += SPH_TIKHONOV_EPS;
+    return mat_mul(mat_inverse(ata), mat_transpose(a));
+}
+
+KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT real *prm,
+                             GLOBAL const real *restrict pos, GLOBAL const real *restrict vol,
+                             GLOBAL const real *restrict grid_geom, const int gx, const int gy,
+                             const int gz, GLOBAL const int *restrict cell_start,
+                             GLOBAL const int *restrict cell_end, GLOBAL int *restrict nbr_count,
+                             GLOBAL int *restrict nbr_j, GLOBAL real *restrict pair_e,
+                             GLOBAL real *restrict pair_dwv, GLOBAL real *restrict pair_inv_r,
+                             GLOBAL real *restrict bmat, GLOBAL int *restrict overflow) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int stride = n * cap;
+    const real cutoff = prm[PRM_CUTOFF];
+    const real cutoff2 = cutoff * cutoff;
+    const vec x_i = vec_load(pos, n, i);
+    const real inv_cell = grid_geom[GRID_INV_CELL];
+    const int cx = cell_coordinate(x_i.c[0], grid_geom[0], inv_cell, gx);
+    const int cy = cell_coordinate(x_i.c[1], grid_geom[1], inv_cell, gy);
+#if SPH_DIM == 3
+    const int cz = cell_coordinate(x_i.c[2], grid_geom[2], inv_cell, gz);
+    const int z_lo = cz > 0 ? cz - 1 : 0, z_hi = cz < gz - 1 ? cz + 1 : gz - 1;
+#else
+    const int z_lo = 0, z_hi = 0;
+    (void)gz;
+#endif
+    const int y_lo = cy > 0 ? cy - 1 : 0, y_hi = cy < gy - 1 ? cy + 1 : gy - 1;
+    const int x_lo = cx > 0 ? cx - 1 : 0, x_hi = cx < gx - 1 ? cx + 1 : gx - 1;
+
+    int count = 0;
+    mat moment = mat_zero();
+    for (int z = z_lo; z <= z_hi; ++z)
+        for (int y = y_lo; y <= y_hi; ++y) {
+            /* cells (x_lo..x_hi, y, z) are contiguous in the sorted order */
+            const int row = gx * (y + gy * z);
+            int j_begin = -1, j_end = -1;
+            for (int x = x_lo; x <= x_hi; ++x) {
+                const int c = row + x;
+                if (cell_end[c] > cell_start[c]) {
+                    if (j_begin < 0) j_begin = cell_start[c];
+                    j_end = cell_end[c];
+                }
+            }
+            for (int j = j_begin; j < j_end; ++j) {
+                if (j == i) continue;
+                const vec d = vec_sub(x_i, vec_load(pos, n, j));
+                const real r2 = vec_dot(d, d);
+                /* coincident particles have no direction: left out of the
+                 * sums (the instability monitor reports such clustering) */
+                if (r2 >= cutoff2 || r2 <= R(0)) continue;
+                const real r = sqrt(r2);
+                const vec e = vec_scale(d, R(1) / r);
+                const real dwv = kernel_dw(prm, r) * vol[j];
+                if (count < cap) {
+                    const int slot = NBR_AT(i, count);
+                    nbr_j[slot] = j;
+                    for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
+                    pair_dwv[slot] = dwv;
+                    pair_inv_r[slot] = R(1) / r;
+                }
+                /* A_i = -sum r_ij dW V_j e (x) e, 003 eq. 21 */
+                moment = mat_add_outer(moment, -r * dwv, e, e);
+                ++count;
+            }
+        }
+    if (count > cap) ATOMIC_MAX_INT(overflow, count);
+    nbr_count[i] = count < cap ? count : cap;
+    sym_store(bmat, n, i, correction_matrix(moment));
+}
+
+#if SPH_OPENCL
+/* Bitonic sort of the padded key array (deterministic, no atomics).
+ * bitonic_local_sort sorts every SORT_WG-sized block; for each larger merge
+ * size k the host runs bitonic_global for the strides >= SORT_WG and then
+ * bitonic_local_merge for the strides inside a block. */
+FN void bitonic_compare_local(__local ulong *s, const int lid, const int j, const int up) {
+    const int partner = lid ^ j;
+    if (partner > lid) {
+        const ulong a = s[lid], b = s[partner];
+        if ((a > b) == up) {
+            s[lid] = b;
+            s[partner] = a;
+        }
+    }
+}
+
+__kernel __attribute__((reqd_work_group_size(SORT_WG, 1, 1))) void
+bitonic_local_sort(GLOBAL ulong *restrict keys) {
+    __local ulong s[SORT_WG];
+    const int lid = get_local_id(0), gid = get_global_id(0);
+    s[lid] = keys[gid];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int k = 2; k <= SORT_WG; k <<= 1)
+        for (int j = k >> 1; j > 0; j >>= 1) {
+            bitonic_compare_local(s, lid, j, (gid & k) == 0);
+            barrier(CLK_LOCAL_MEM_FENCE);
+        }
+    keys[gid] = s[lid];
+}
+
+__kernel __attribute__((reqd_work_group_size(SORT_WG, 1, 1))) void
+bitonic_local_merge(GLOBAL ulong *restrict keys, const int k) {
+    __local ulong s[SORT_WG];
+    const int lid = get_local_id(0), gid = get_global_id(0);
+    s[lid] = keys[gid];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int j = SORT_WG >> 1; j > 0; j >>= 1) {
+        bitonic_compare_local(s, lid, j, (gid & k) == 0);
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    keys[gid] = s[lid];
+}
+
+__kernel void bitonic_global(GLOBAL ulong *restrict keys, const int j, const int k) {
+    const int i = get_global_id(0);
+    const int partner = i ^ j;
+    if (partner > i) {
+        const ulong a = keys[i], b = keys[partner];
+        if ((a > b) == ((i & k) == 0)) {
+            keys[i] = b;
+            keys[partner] = a;
+        }
+    }
+}
+#endif

@@ -1,0 +1,193 @@
+/* reduction.cl — the global reductions, done on the device.
+ *
+ * Each reduction has a per-particle contribution (shared by both backends)
+ * and runs in two stages: work-groups of SPH_WG particles reduce into one
+ * partial row each, then reduce_finalize combines the rows.  Components
+ * [0, nmax) combine by max, [nmax, ncomp) by sum.  The fixed grouping makes
+ * every reduction deterministic (no atomics, no order that depends on
+ * timing).
+ *
+ *  rebuild:     bounding box and the advection-step criteria, once per
+ *               configuration rebuild (also refreshes V = m/rho);
+ *  substep:     max |v|^2 for the acoustic step and, for SPH-ENOG-A, the sum
+ *               of the Rodrigues matrices of each body (003 eq. 41);
+ *  diagnostics: kinetic and strain energy, linear and angular momentum.
+ */
+#include "sph_vec.h"
+#include "sph_rotation.h"
+#include "sph_elasticity.h"
+
+#define REBUILD_NCOMP (2 * SPH_DIM + 2)
+#define SUBSTEP_NCOMP_MAX (1 + SPH_NBODIES * SPH_DIM * SPH_DIM)
+#define DIAG_NCOMP (2 + SPH_DIM + NSPIN)
+#define DIAG_KINETIC 0
+#define DIAG_STRAIN 1
+#define DIAG_MOMENTUM 2
+#define DIAG_ANGULAR (2 + SPH_DIM)
+
+FN void reduce_identity(real *c, const int nmax, const int ncomp) {
+    for (int k = 0; k < ncomp; ++k) c[k] = k < nmax ? REAL_LOWEST : R(0);
+}
+FN void reduce_combine(real *acc, const real *c, const int nmax, const int ncomp) {
+    for (int k = 0; k < ncomp; ++k) acc[k] = k < nmax ? fmax(acc[k], c[k]) : acc[k] + c[k];
+}
+
+/* Components: -min x (d), max x (d), max |v|^2, max 4 h |a| (all by max).
+ * The acceleration of the advection criterion is the dissipation plus the
+ * external acceleration: what the reference code's force array holds at the
+ * start of an advection step (its density half-step resets it to the
+ * dissipative force; reference notes §3.7, §4). */
+FN void rebuild_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const real *pos,
+                        GLOBAL const real *vel, GLOBAL const real *mass, GLOBAL const real *rho,
+                        GLOBAL real *vol, GLOBAL const real *acc_diss, real *c) {
+    /* ContinuumVolumeUpdate of the reference: V = m / rho at each rebuild */
+    vol[i] = mass[i] / rho[i];
+    const vec x = vec_load(pos, n, i), v = vec_load(vel, n, i);
+    for (int a = 0; a < SPH_DIM; ++a) {
+        c[a] = -x.c[a];
+        c[SPH_DIM + a] = x.c[a];
+    }
+    c[2 * SPH_DIM] = vec_dot(v, v);
+    vec a = vec_load(acc_diss, n, i);
+    for (int d = 0; d < SPH_DIM; ++d) a.c[d] += prm[PRM_GRAVITY + d];
+    c[2 * SPH_DIM + 1] = R(4) * prm[PRM_H] * sqrt(vec_dot(a, a));
+}
+
+FN int substep_ncomp(CONSTANT real *prm) {
+    (void)prm;
+    return RUNTIME_ROTATION == ROTATION_AVERAGED ? 1 + RUNTIME_NBODIES * SPH_DIM * SPH_DIM : 1;
+}
+/* Components: max |v|^2; then per body the summed R_i (d*d, by sum). */
+FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *prm,
+                        GLOBAL const real *vel, GLOBAL const real *spin, GLOBAL const u8 *body,
+                        real *c) {
+    const vec v = vec_load(vel, n, i);
+    c[0] = vec_dot(v, v);
+    if (RUNTIME_ROTATION != ROTATION_AVERAGED) return;
+    const int ncomp = substep_ncomp(prm);
+    for (int k = 1; k < ncomp; ++k) c[k] = R(0);
+    real w[NSPIN];
+    for (int a = 0; a < NSPIN; ++a) w[a] = spin[a * n + i];
+    const mat rot = rodrigues(spin_matrix(w), dt);
+    const int b = (SPH_HAS_BODY_IDS && PRESENT(body)) ? (int)body[i] : 0;
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int e = 0; e < SPH_DIM; ++e) c[1 + (b * SPH_DIM + a) * SPH_DIM + e] = rot.m[a][e];
+}
+
+/* Components (all by sum): kinetic energy, strain energy, momentum (d),
+ * angular momentum about the origin (1 in 2D, 3 in 3D). */
+FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const real *pos,
+                            GLOBAL const real *vel, GLOBAL const real *mass,
+                            GLOBAL const real *rho, GLOBAL const real *tau, real *c) {
+    const vec x = vec_load(pos, n, i), v = vec_load(vel, n, i);
+    const real m = mass[i];
+    c[DIAG_KINETIC] = R(0.5) * m * vec_dot(v, v);
+    const real volume = m / rho[i];
+    c[DIAG_STRAIN] = volume * strain_energy_density(sym_load(tau, n, i), eos_pressure(prm, rho[i]),
+                                                    prm[PRM_G], prm[PRM_K]);
+    for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
+#if SPH_DIM == 2
+    c[DIAG_ANGULAR] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
+#else
+    c[DIAG_ANGULAR + 0] = m * (x.c[1] * v.c[2] - x.c[2] * v.c[1]);
+    c[DIAG_ANGULAR + 1] = m * (x.c[2] * v.c[0] - x.c[0] * v.c[2]);
+    c[DIAG_ANGULAR + 2] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
+#endif
+}
+
+#if SPH_OPENCL
+/* Tree reduction of one work-group; item 0 writes the group's row. */
+FN void group_reduce_store(__local real *scratch, const real *c, const int nmax, const int ncomp,
+                           __global real *partials) {
+    const int lid = get_local_id(0);
+    for (int k = 0; k < ncomp; ++k) {
+        scratch[lid] = c[k];
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (int s = SPH_WG / 2; s > 0; s >>= 1) {
+            if (lid < s)
+                scratch[lid] = k < nmax ? fmax(scratch[lid], scratch[lid + s])
+                                        : scratch[lid] + scratch[lid + s];
+            barrier(CLK_LOCAL_MEM_FENCE);
+        }
+        if (lid == 0) partials[get_group_id(0) * ncomp + k] = scratch[0];
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+}
+
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const real *restrict pos,
+               GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
+               GLOBAL const real *restrict rho, GLOBAL real *restrict vol,
+               GLOBAL const real *restrict acc_diss, GLOBAL real *restrict partials) {
+    __local real scratch[SPH_WG];
+    real c[REBUILD_NCOMP];
+    const int i = get_global_id(0);
+    reduce_identity(c, REBUILD_NCOMP, REBUILD_NCOMP);
+    if (i < n) rebuild_contrib(i, n, prm, pos, vel, mass, rho, vol, acc_diss, c);
+    group_reduce_store(scratch, c, REBUILD_NCOMP, REBUILD_NCOMP, partials);
+}
+
+#    if SPH_HAS_ROTATION_AVG
+#        define SPIN_ARG spin
+#        define REDUCE_SPIN_PARAMS , GLOBAL const real *restrict spin
+#    else
+#        define SPIN_ARG 0
+#        define REDUCE_SPIN_PARAMS
+#    endif
+#    if SPH_HAS_BODY_IDS
+#        define BODY_ARG body
+#        define REDUCE_BODY_PARAMS , GLOBAL const u8 *restrict body
+#    else
+#        define BODY_ARG 0
+#        define REDUCE_BODY_PARAMS
+#    endif
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+substep_reduce(const int n, const real dt, CONSTANT real *prm, GLOBAL const real *restrict vel,
+               GLOBAL real *restrict partials REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS) {
+    __local real scratch[SPH_WG];
+    real c[SUBSTEP_NCOMP_MAX];
+    const int i = get_global_id(0);
+    const int ncomp = substep_ncomp(prm);
+    reduce_identity(c, 1, ncomp);
+    if (i < n) substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, c);
+    group_reduce_store(scratch, c, 1, ncomp, partials);
+}
+
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+diagnostics_reduce(const int n, CONSTANT real *prm, GLOBAL const real *restrict pos,
+                   GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
+                   GLOBAL const real *restrict rho, GLOBAL const real *restrict tau,
+                   GLOBAL real *restrict partials) {
+    __local real scratch[SPH_WG];
+    real c[DIAG_NCOMP];
+    const int i = get_global_id(0);
+    reduce_identity(c, 0, DIAG_NCOMP);
+    if (i < n) diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, c);
+    group_reduce_store(scratch, c, 0, DIAG_NCOMP, partials);
+}
+
+/* Second stage, one work-group: row-wise combine of `ngroups` partial rows. */
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+reduce_finalize(const int ngroups, const int nmax, const int ncomp,
+                GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
+    __local real scratch[SPH_WG];
+    const int lid = get_local_id(0);
+    for (int k = 0; k < ncomp; ++k) {
+        real acc = k < nmax ? REAL_LOWEST : R(0);
+        for (int g = lid; g < ngroups; g += SPH_WG) {
+            const real x = partials[g * ncomp + k];
+            acc = k < nmax ? fmax(acc, x) : acc + x;
+        }
+        scratch[lid] = acc;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (int s = SPH_WG / 2; s > 0; s >>= 1) {
+            if (lid < s)
+                scratch[lid] = k < nmax ? fmax(scratch[lid], scratch[lid + s])
+                                        : scratch[lid] + scratch[lid + s];
+            barrier(CLK_LOCAL_MEM_FENCE);
+        }
+        if (lid == 0) result[k] = scratch[0];
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+}
+#endif

@@ -1,0 +1,120 @@
+/* sph_prelude.h — one dialect for the physics source.
+ *
+ * Every file in device/ is compiled twice: as OpenCL C 1.2 by the device
+ * backend (with the scene's features as -D options) and as C11 by the native
+ * CPU backend (once per dimension and precision, features switched at run
+ * time).  This header hides the few differences between the two languages so
+ * that the physics exists exactly once.
+ *
+ * Build-time symbols (set by the host, see host/features.c):
+ *   SPH_DIM          2 or 3
+ *   SPH_DOUBLE       1 for double precision, 0 for single
+ *   SPH_KERNEL       smoothing kernel (KERNEL_* below)
+ *   SPH_ROTATION     ROTATION_* : how the accumulated shear acceleration turns
+ *   SPH_HAS_CLAMP    1 when the scene has fixed (clamped) particles
+ *   SPH_NBODIES      number of bodies (1 when the scene has one body)
+ *   SPH_NBR_ROW_MAJOR 1: pair slot (i,k) at i*cap+k (CPU caches);
+ *                     0: at k*n+i (coalesced on GPUs)
+ *   SPH_WG           work-group size of the reduction kernels
+ */
+#ifndef SPH_PRELUDE_H
+#define SPH_PRELUDE_H
+
+#include "sph_constants.h"
+
+#ifdef __OPENCL_VERSION__
+#    define SPH_OPENCL 1
+#    pragma OPENCL FP_CONTRACT OFF
+#    if SPH_DOUBLE
+#        pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double real;
+#    else
+typedef float real;
+#    endif
+#    define GLOBAL __global
+#    define CONSTANT __constant
+#    define FN static inline
+/* A per-item kernel is an OpenCL kernel here and a plain function called in
+ * an OpenMP loop on the CPU.  ITEM_PARAM/ITEM_ID give it its item index. */
+#    define KERNEL __kernel
+#    define ITEM_PARAM
+#    define ITEM_ID ((int)get_global_id(0))
+/* Optional buffers exist only when their feature is compiled in. */
+#    define PRESENT(p) 1
+#    define RUNTIME_ROTATION SPH_ROTATION
+#    define RUNTIME_KERNEL SPH_KERNEL
+#    define RUNTIME_NBODIES SPH_NBODIES
+/* Which optional buffers this program has. */
+#    define SPH_HAS_ROTATION_AVG (SPH_ROTATION == ROTATION_AVERAGED)
+#    define SPH_HAS_BODY_IDS (SPH_NBODIES > 1)
+typedef uchar u8;
+#    define ATOMIC_MAX_INT(p, v) atomic_max((p), (v))
+#    define REAL_LOWEST (-INFINITY)
+#else
+#    include <tgmath.h>
+#    include <stdint.h>
+#    define SPH_OPENCL 0
+#    if SPH_DOUBLE
+typedef double real;
+#    else
+typedef float real;
+#    endif
+#    define GLOBAL
+#    define CONSTANT const
+#    define FN static inline
+#    define KERNEL static inline
+#    define ITEM_PARAM const int item_,
+#    define ITEM_ID item_
+/* The CPU backend compiles every feature in and passes NULL for the buffers
+ * a scene does not have. */
+#    define PRESENT(p) ((p) != 0)
+#    define RUNTIME_ROTATION ((int)prm[PRM_ROTATION])
+#    define RUNTIME_KERNEL ((int)prm[PRM_KERNEL])
+#    define RUNTIME_NBODIES ((int)prm[PRM_NBODIES])
+#    define SPH_HAS_ROTATION_AVG 1
+#    define SPH_HAS_BODY_IDS 1
+#    ifndef SPH_HAS_CLAMP
+#        define SPH_HAS_CLAMP 1
+#    endif
+#    ifndef SPH_NBODIES
+#        define SPH_NBODIES SPH_MAX_BODIES
+#    endif
+#    ifndef SPH_NBR_ROW_MAJOR
+#        define SPH_NBR_ROW_MAJOR 1
+#    endif
+#    ifndef SPH_WG
+#        define SPH_WG 256
+#    endif
+typedef uint8_t u8;
+typedef uint64_t ulong;
+/* Rare event (neighbour-capacity overflow): a compare-and-swap loop. */
+#    define ATOMIC_MAX_INT(p, v)                                                                   \
+        do {                                                                                       \
+            int seen_ = __atomic_load_n((p), __ATOMIC_RELAXED);                                    \
+            while (seen_ < (v) && !__atomic_compare_exchange_n((p), &seen_, (v), 0,                \
+                                                               __ATOMIC_RELAXED, __ATOMIC_RELAXED)) \
+                ;                                                                                  \
+        } while (0)
+#    define REAL_LOWEST (-INFINITY)
+#endif
+
+#define R(x) ((real)(x))
+
+#if SPH_DOUBLE
+#    define REAL_EPSILON 2.220446049250313e-16
+#else
+#    define REAL_EPSILON 1.1920929e-7f
+#endif
+
+/* Components of the per-particle quantities for this dimension. */
+#define NSYM (SPH_DIM * (SPH_DIM + 1) / 2) /* symmetric tensor */
+#define NSPIN (SPH_DIM == 2 ? 1 : 3)       /* independent spin components */
+
+/* Pair slot (i, k) in the frozen neighbour arrays (see SPH_NBR_ROW_MAJOR). */
+#if SPH_NBR_ROW_MAJOR
+#    define NBR_AT(i, k) ((i) * cap + (k))
+#else
+#    define NBR_AT(i, k) ((k) * n + (i))
+#endif
+
+#endif

@@ -1,0 +1,77 @@
+#include "backend.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "opencl_runtime.h"
+
+sph_status sph_backend_create(const sph_backend_request *req, const sph_features *f,
+                              const double prm[PRM_COUNT], int n, sph_backend **out,
+                              sph_error *err) {
+    *out = NULL;
+    if (req->kind == SPH_BACKEND_CPU) {
+        sph_status st = sph_backend_cpu_create(f, prm, n, out, err);
+        if (!st) snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "requested");
+        return st;
+    }
+    if (req->kind == SPH_BACKEND_OPENCL) {
+        sph_status st = sph_backend_opencl_create(req->device_index, f, prm, n, req->quiet, out, err);
+        if (!st) snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "requested");
+        return st;
+    }
+    /* Automatic: an OpenCL GPU when one is present, else the native backend
+     * (a CPU OpenCL device such as pocl is for testing the kernels). */
+    char reason[256];
+    const int gpu = sph_opencl_find_gpu(reason, sizeof reason);
+    if (gpu >= 0) {
+        sph_error gpu_err = {0};
+        sph_status st = sph_backend_opencl_create(gpu, f, prm, n, req->quiet, out, &gpu_err);
+        if (!st) {
+            snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "%s", reason);
+            return SPH_OK;
+        }
+        sph_format(reason, sizeof reason, "the OpenCL GPU failed to start (%s)", gpu_err.msg);
+    }
+    sph_status st = sph_backend_cpu_create(f, prm, n, out, err);
+    if (!st) snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "%s", reason);
+    return st;
+}
+
+void sph_backend_destroy(sph_backend *be) {
+    if (be) be->ops->destroy(be);
+}
+
+void sph_backend_record_buffer(sph_backend *be, const char *name, size_t bytes) {
+    for (int k = 0; k < be->nbuffers; ++k)
+        if (strcmp(be->buffers[k].name, name) == 0) {
+            be->buffers[k].bytes = bytes;
+            return;
+        }
+    if (be->nbuffers >= SPH_MAX_BUFFER_RECORDS) return;
+    sph_buffer_record *r = &be->buffers[be->nbuffers++];
+    snprintf(r->name, sizeof r->name, "%s", name);
+    r->bytes = bytes;
+}
+
+size_t sph_backend_total_bytes(const sph_backend *be) {
+    size_t total = 0;
+    for (int k = 0; k < be->nbuffers; ++k) total += be->buffers[k].bytes;
+    return total;
+}
+
+void sph_neighbour_lists_free(sph_neighbour_lists *l) {
+    free(l->count);
+    free(l->j);
+    l->count = NULL;
+    l->j = NULL;
+}
+
+int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp) {
+    const double pi = 3.14159265358979323846;
+    const double lattice = dim == 2 ? pi * cutoff_over_dp * cutoff_over_dp
+                                    : 4.0 / 3.0 * pi * pow(cutoff_over_dp, 3.0);
+    int cap = (int)ceil(1.5 * lattice);
+    return (cap + 3) / 4 * 4;
+}

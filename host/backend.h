@@ -1,0 +1,111 @@
+/* backend.h — the platform split (after OpenMM's Reference/OpenCL platforms).
+ *
+ * A backend owns the particle state in its memory and runs the phases of the
+ * scheme: the configuration rebuild of an advection step, the acoustic
+ * substep, and the reductions.  The native CPU backend (C + OpenMP) is the
+ * reference every device backend is tested against; both run the physics
+ * source of device/.  The host time loop (solver.c) sees only this interface.
+ *
+ * Particle order inside a backend changes at every rebuild (sorted by cell);
+ * FIELD_ID maps a slot back to the particle's initial index.
+ */
+#ifndef SPH_BACKEND_H
+#define SPH_BACKEND_H
+
+#include "feature_set.h"
+#include "fields.h"
+#include "particles.h"
+#include "sph_constants.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+typedef enum { SPH_BACKEND_AUTO, SPH_BACKEND_CPU, SPH_BACKEND_OPENCL } sph_backend_kind;
+
+typedef struct {
+    sph_backend_kind kind;
+    int device_index; /* OpenCL device (as listed by `sphsolid devices`); -1: choose */
+    bool quiet;       /* no build-option/choice messages on stderr */
+} sph_backend_request;
+
+/* Result of a configuration rebuild. */
+typedef struct {
+    double lower[3], upper[3]; /* bounding box of the particles */
+    double max_speed2;         /* max |v|^2 */
+    double max_accel_term;     /* max 4 h |a_pressure + a_dissipation| */
+    int max_neighbours;        /* capacity of the neighbour arrays after the rebuild */
+} sph_rebuild_info;
+
+/* Global diagnostics (device reductions). */
+typedef struct {
+    double kinetic, strain;
+    double momentum[3];
+    double angular[3]; /* 2D: angular[2] = L_z */
+} sph_diagnostics;
+
+/* A host copy of the frozen neighbour lists (tests). */
+typedef struct {
+    int n, cap;
+    int32_t *count; /* [n] */
+    int32_t *j;     /* [n * cap], row-major: slot (i, k) at i*cap + k */
+} sph_neighbour_lists;
+
+typedef struct {
+    char name[64];
+    size_t bytes;
+} sph_buffer_record;
+#define SPH_MAX_BUFFER_RECORDS 48
+
+typedef struct sph_backend sph_backend;
+typedef struct {
+    sph_status (*upload)(sph_backend *be, const sph_particles *p, sph_error *err);
+    sph_status (*rebuild)(sph_backend *be, sph_rebuild_info *info, sph_error *err);
+    /* one acoustic substep of size dt; returns max |v|^2 after it */
+    sph_status (*substep)(sph_backend *be, double dt, double *max_speed2, sph_error *err);
+    sph_status (*diagnostics)(sph_backend *be, sph_diagnostics *out, sph_error *err);
+    /* copy a field to the host: real fields as double [components * n],
+     * int32 and u8 fields in their own type */
+    sph_status (*download)(sph_backend *be, sph_field field, void *host, sph_error *err);
+    sph_status (*download_neighbours)(sph_backend *be, sph_neighbour_lists *out, sph_error *err);
+    void (*destroy)(sph_backend *be);
+} sph_backend_ops;
+
+struct sph_backend {
+    const sph_backend_ops *ops;
+    const char *kind_name;  /* "cpu" or "opencl" */
+    char device_name[256];  /* e.g. "AMD EPYC (2 threads)" */
+    char build_options[512];
+    char choice_reason[256]; /* why this backend/device was chosen */
+    sph_features features;
+    sph_field_info fields[FIELD_COUNT];
+    int n;
+    int nbuffers;
+    sph_buffer_record buffers[SPH_MAX_BUFFER_RECORDS];
+    void *impl;
+};
+
+/* Choose and create a backend for `n` particles of feature set `f`. */
+sph_status sph_backend_create(const sph_backend_request *req, const sph_features *f,
+                              const double prm[PRM_COUNT], int n, sph_backend **out,
+                              sph_error *err);
+void sph_backend_destroy(sph_backend *be);
+
+/* Backend constructors (backend_cpu.c, backend_opencl.c). */
+sph_status sph_backend_cpu_create(const sph_features *f, const double prm[PRM_COUNT], int n,
+                                  sph_backend **out, sph_error *err);
+sph_status sph_backend_opencl_create(int platform_device_index, const sph_features *f,
+                                     const double prm[PRM_COUNT], int n, bool quiet,
+                                     sph_backend **out, sph_error *err);
+
+/* Helpers shared by the backends. */
+/* Record (or update) the bytes of a named buffer for the memory report. */
+void sph_backend_record_buffer(sph_backend *be, const char *name, size_t bytes);
+size_t sph_backend_total_bytes(const sph_backend *be);
+void sph_neighbour_lists_free(sph_neighbour_lists *l);
+
+/* Initial neighbour capacity: the lattice count within the cut-off (given in
+ * units of dp) with room for compression; the rebuild grows it on demand. */
+int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp);
+
+#endif

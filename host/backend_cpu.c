@@ -1,0 +1,346 @@
+/* backend_cpu.c — the native CPU backend (C + OpenMP), the reference platform.
+ *
+ * Owns the particle arrays in host memory, sorts them by cell at every rebuild
+ * (a stable counting sort: the same order as the device's bitonic sort of
+ * (cell, index) keys), and calls the physics compiled from device/ for the
+ * dimension and precision of the run.
+ */
+#include "backend.h"
+#include "backend_cpu.h"
+
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SUBSTEP_SUMS_LEN (1 + SPH_MAX_BODIES * 9)
+#define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
+#define CPU_GROUP 256 /* = SPH_WG of the C build of device/ */
+
+typedef struct {
+    const cpu_kernels *k;
+    cpu_buffers b;
+    void *spare[FIELD_COUNT]; /* second buffer of each field for the permutation */
+    size_t real_size;
+    long cells_allocated;
+    uint64_t *keys_sorted;
+} cpu_impl;
+
+const cpu_kernels *cpu_kernels_for(int dim, bool double_precision) {
+    if (dim == 2) return double_precision ? &cpu_2d_f64 : &cpu_2d_f32;
+    return double_precision ? &cpu_3d_f64 : &cpu_3d_f32;
+}
+
+/* Run the loops on the OpenMP team?  With OMP_WAIT_POLICY=passive every
+ * barrier puts the threads to sleep, and waking a sleeping vCPU costs far
+ * more than a small scene's substep: on the 2-core CI machine the 1612-particle
+ * plate ran at 4.8 M particle-substeps/s on two passive threads against 6.1 on
+ * one, while 5792 particles gained (7.4 against 6.3).  Spinning policies
+ * (the default, or active) gain from ~1000 particles up (9.4 against 6.1). */
+static bool use_threads(int n) {
+    if (omp_get_max_threads() < 2) return false;
+    const char *policy = getenv("OMP_WAIT_POLICY");
+    const bool passive = policy && (strcmp(policy, "passive") == 0 || strcmp(policy, "PASSIVE") == 0);
+    return n >= (passive ? 4096 : 1024);
+}
+
+static size_t field_bytes(const sph_backend *be, sph_field f) {
+    const sph_field_info *info = &be->fields[f];
+    return (size_t)be->n * (size_t)info->components *
+           sph_field_element_size(info->type, be->features.double_precision);
+}
+
+static void set_real(const cpu_impl *c, void *buf, size_t index, double value) {
+    if (c->k->double_precision)
+        ((double *)buf)[index] = value;
+    else
+        ((float *)buf)[index] = (float)value;
+}
+static double get_real(const cpu_impl *c, const void *buf, size_t index) {
+    return c->k->double_precision ? ((const double *)buf)[index]
+                                  : (double)((const float *)buf)[index];
+}
+
+static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *err) {
+    const size_t slots = (size_t)be->n * (size_t)cap;
+    free(c->b.nbr_j);
+    free(c->b.pair_e);
+    free(c->b.pair_dwv);
+    free(c->b.pair_inv_r);
+    c->b.cap = cap;
+    c->b.nbr_j = malloc(slots * sizeof(int32_t));
+    c->b.pair_e = malloc(slots * (size_t)be->features.dim * c->real_size);
+    c->b.pair_dwv = malloc(slots * c->real_size);
+    c->b.pair_inv_r = malloc(slots * c->real_size);
+    sph_backend_record_buffer(be, "neighbour lists and frozen pair geometry",
+                              slots * (sizeof(int32_t) + (size_t)(be->features.dim + 2) * c->real_size));
+    if (!c->b.nbr_j || !c->b.pair_e || !c->b.pair_dwv || !c->b.pair_inv_r)
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "out of host memory for the neighbour lists (%d particles x %d slots)",
+                        be->n, cap);
+    return SPH_OK;
+}
+
+static sph_status cpu_upload(sph_backend *be, const sph_particles *p, sph_error *err) {
+    cpu_impl *c = be->impl;
+    const int n = be->n, d = be->features.dim;
+    if (p->n != n || p->dim != d)
+        return sph_fail(err, SPH_ERR_RUNTIME, "particle set does not match the backend");
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        if (c->b.field[f]) memset(c->b.field[f], 0, field_bytes(be, (sph_field)f));
+    for (size_t k = 0; k < (size_t)d * n; ++k) {
+        set_real(c, c->b.field[FIELD_POS], k, p->pos[k]);
+        set_real(c, c->b.field[FIELD_VEL], k, p->vel[k]);
+        if (c->b.field[FIELD_POS0]) set_real(c, c->b.field[FIELD_POS0], k, p->pos[k]);
+    }
+    for (int i = 0; i < n; ++i) {
+        set_real(c, c->b.field[FIELD_MASS], i, p->mass[i]);
+        set_real(c, c->b.field[FIELD_RHO], i, p->rho[i]);
+        set_real(c, c->b.field[FIELD_VOL], i, p->mass[i] / p->rho[i]);
+    }
+    memcpy(c->b.field[FIELD_ID], p->id, (size_t)n * sizeof(int32_t));
+    if (c->b.field[FIELD_BODY]) memcpy(c->b.field[FIELD_BODY], p->body, (size_t)n);
+    if (c->b.field[FIELD_FIXED]) memcpy(c->b.field[FIELD_FIXED], p->fixed, (size_t)n);
+    memset(c->b.substep_sums, 0, SUBSTEP_SUMS_LEN * c->real_size);
+    return SPH_OK;
+}
+
+/* Stable counting sort of the cell keys; also yields the cell ranges. */
+static void sort_by_cell(cpu_impl *c, long ncells) {
+    const int n = c->b.n;
+    int32_t *start = c->b.cell_start, *end = c->b.cell_end;
+    memset(end, 0, (size_t)ncells * sizeof(int32_t));
+    for (int i = 0; i < n; ++i) end[c->b.keys[i] >> 32]++;
+    int32_t offset = 0;
+    for (long cell = 0; cell < ncells; ++cell) {
+        start[cell] = offset;
+        offset += end[cell];
+        end[cell] = start[cell];
+    }
+    for (int i = 0; i < n; ++i) {
+        const uint64_t key = c->b.keys[i];
+        c->keys_sorted[end[key >> 32]++] = key;
+    }
+    uint64_t *t = c->b.keys;
+    c->b.keys = c->keys_sorted;
+    c->keys_sorted = t;
+}
+
+static void permute_fields(sph_backend *be, cpu_impl *c) {
+    const int n = be->n;
+    const uint64_t *keys = c->b.keys;
+#pragma omp parallel if (c->b.parallel)
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        if (!c->b.field[f]) continue;
+        const sph_field_info *info = &be->fields[f];
+        const size_t esize = sph_field_element_size(info->type, be->features.double_precision);
+        const char *src = c->b.field[f];
+        char *dst = c->spare[f];
+        for (int comp = 0; comp < info->components; ++comp) {
+            const size_t base = (size_t)comp * (size_t)n;
+#pragma omp for schedule(static) nowait
+            for (int k = 0; k < n; ++k) {
+                const size_t from = (size_t)(keys[k] & 0xFFFFFFFFu);
+                memcpy(dst + (base + (size_t)k) * esize, src + (base + from) * esize, esize);
+            }
+        }
+    }
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        if (!c->b.field[f]) continue;
+        void *t = c->b.field[f];
+        c->b.field[f] = c->spare[f];
+        c->spare[f] = t;
+    }
+}
+
+static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error *err) {
+    cpu_impl *c = be->impl;
+    const int d = be->features.dim;
+    double red[2 * 3 + 2];
+    c->k->rebuild_reduce(&c->b, red);
+    for (int a = 0; a < 3; ++a) {
+        info->lower[a] = a < d ? -red[a] : 0.0;
+        info->upper[a] = a < d ? red[d + a] : 0.0;
+    }
+    info->max_speed2 = red[2 * d];
+    info->max_accel_term = red[2 * d + 1];
+
+    sph_grid grid;
+    const double cutoff = get_real(c, c->b.prm, PRM_CUTOFF);
+    sph_status st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err);
+    if (st) return st;
+    if (grid.ncells > c->cells_allocated) {
+        free(c->b.cell_start);
+        free(c->b.cell_end);
+        c->b.cell_start = malloc((size_t)grid.ncells * sizeof(int32_t));
+        c->b.cell_end = malloc((size_t)grid.ncells * sizeof(int32_t));
+        if (!c->b.cell_start || !c->b.cell_end)
+            return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for %ld grid cells",
+                            grid.ncells);
+        c->cells_allocated = grid.ncells;
+    }
+    c->k->cell_keys(&c->b, &grid);
+    sort_by_cell(c, grid.ncells);
+    permute_fields(be, c);
+    for (;;) {
+        const int needed = c->k->build_neighbours(&c->b, &grid);
+        if (needed == 0) break;
+        st = alloc_pairs(be, c, needed + needed / 4 + 2, err);
+        if (st) return st;
+    }
+    info->max_neighbours = c->b.cap;
+    return SPH_OK;
+}
+
+static sph_status cpu_substep(sph_backend *be, double dt, double *max_speed2, sph_error *err) {
+    (void)err;
+    cpu_impl *c = be->impl;
+    c->k->substep(&c->b, dt, max_speed2);
+    return SPH_OK;
+}
+
+static sph_status cpu_diagnostics(sph_backend *be, sph_diagnostics *out, sph_error *err) {
+    (void)err;
+    cpu_impl *c = be->impl;
+    const int d = be->features.dim;
+    double red[2 + 3 + 3];
+    c->k->diagnostics(&c->b, red);
+    memset(out, 0, sizeof *out);
+    out->kinetic = red[0];
+    out->strain = red[1];
+    for (int a = 0; a < d; ++a) out->momentum[a] = red[2 + a];
+    if (d == 2)
+        out->angular[2] = red[2 + d];
+    else
+        for (int a = 0; a < 3; ++a) out->angular[a] = red[2 + d + a];
+    return SPH_OK;
+}
+
+static sph_status cpu_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
+    cpu_impl *c = be->impl;
+    if (!c->b.field[f])
+        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
+                        be->fields[f].name);
+    const sph_field_info *info = &be->fields[f];
+    const size_t count = (size_t)be->n * (size_t)info->components;
+    if (info->type == FIELD_TYPE_REAL) {
+        double *out = host;
+        for (size_t k = 0; k < count; ++k) out[k] = get_real(c, c->b.field[f], k);
+    } else {
+        memcpy(host, c->b.field[f], field_bytes(be, f));
+    }
+    return SPH_OK;
+}
+
+static sph_status cpu_download_neighbours(sph_backend *be, sph_neighbour_lists *out,
+                                          sph_error *err) {
+    cpu_impl *c = be->impl;
+    out->n = be->n;
+    out->cap = c->b.cap;
+    out->count = malloc((size_t)be->n * sizeof(int32_t));
+    out->j = malloc((size_t)be->n * (size_t)c->b.cap * sizeof(int32_t));
+    if (!out->count || !out->j) {
+        sph_neighbour_lists_free(out);
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
+    memcpy(out->count, c->b.nbr_count, (size_t)be->n * sizeof(int32_t));
+    memcpy(out->j, c->b.nbr_j, (size_t)be->n * (size_t)c->b.cap * sizeof(int32_t));
+    return SPH_OK;
+}
+
+static void cpu_destroy(sph_backend *be) {
+    cpu_impl *c = be->impl;
+    if (c) {
+        for (int f = 0; f < FIELD_COUNT; ++f) {
+            free(c->b.field[f]);
+            free(c->spare[f]);
+        }
+        free(c->b.nbr_count);
+        free(c->b.nbr_j);
+        free(c->b.pair_e);
+        free(c->b.pair_dwv);
+        free(c->b.pair_inv_r);
+        free(c->b.keys);
+        free(c->keys_sorted);
+        free(c->b.cell_start);
+        free(c->b.cell_end);
+        free(c->b.prm);
+        free(c->b.grid_geom);
+        free(c->b.partials);
+        free(c->b.substep_sums);
+        free(c);
+    }
+    free(be);
+}
+
+static const sph_backend_ops cpu_ops = {
+    .upload = cpu_upload,
+    .rebuild = cpu_rebuild,
+    .substep = cpu_substep,
+    .diagnostics = cpu_diagnostics,
+    .download = cpu_download,
+    .download_neighbours = cpu_download_neighbours,
+    .destroy = cpu_destroy,
+};
+
+sph_status sph_backend_cpu_create(const sph_features *f, const double prm[PRM_COUNT], int n,
+                                  sph_backend **out, sph_error *err) {
+    *out = NULL;
+    sph_backend *be = calloc(1, sizeof *be);
+    cpu_impl *c = calloc(1, sizeof *c);
+    if (!be || !c) {
+        free(be);
+        free(c);
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
+    be->impl = c;
+    be->ops = &cpu_ops;
+    be->kind_name = "cpu";
+    be->features = *f;
+    be->n = n;
+    sph_fields_layout(f, be->fields);
+    c->k = cpu_kernels_for(f->dim, f->double_precision);
+    c->real_size = f->double_precision ? sizeof(double) : sizeof(float);
+    c->b.n = n;
+    c->b.parallel = use_threads(n);
+    snprintf(be->device_name, sizeof be->device_name, "native CPU backend, %d OpenMP thread%s",
+             c->b.parallel ? omp_get_max_threads() : 1, c->b.parallel ? "s" : "");
+    snprintf(be->build_options, sizeof be->build_options,
+             "native: dim=%d precision=%s rotation=%s clamp=%d bodies=%d", f->dim,
+             f->double_precision ? "double" : "single", sph_rotation_name(f->rotation),
+             f->has_clamp ? 1 : 0, f->nbodies);
+
+    bool ok = true;
+    for (int k = 0; k < FIELD_COUNT; ++k) {
+        if (!be->fields[k].present) continue;
+        const size_t bytes = field_bytes(be, (sph_field)k);
+        c->b.field[k] = malloc(bytes);
+        c->spare[k] = malloc(bytes);
+        ok = ok && c->b.field[k] && c->spare[k];
+        sph_backend_record_buffer(be, be->fields[k].name, 2 * bytes);
+    }
+    const int ngroups = (n + CPU_GROUP - 1) / CPU_GROUP;
+    c->b.ngroups = ngroups;
+    c->b.prm = malloc(PRM_COUNT * c->real_size);
+    c->b.grid_geom = malloc(4 * c->real_size);
+    c->b.partials = malloc((size_t)ngroups * PARTIAL_NCOMP_MAX * c->real_size);
+    c->b.substep_sums = calloc(SUBSTEP_SUMS_LEN, c->real_size);
+    c->b.keys = malloc((size_t)n * sizeof(uint64_t));
+    c->keys_sorted = malloc((size_t)n * sizeof(uint64_t));
+    c->b.nbr_count = malloc((size_t)n * sizeof(int32_t));
+    ok = ok && c->b.prm && c->b.grid_geom && c->b.partials && c->b.substep_sums && c->b.keys &&
+         c->keys_sorted && c->b.nbr_count;
+    if (!ok) {
+        cpu_destroy(be);
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for %d particles", n);
+    }
+    for (int k = 0; k < PRM_COUNT; ++k) set_real(c, c->b.prm, (size_t)k, prm[k]);
+    sph_status st =
+        alloc_pairs(be, c, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]), err);
+    if (st) {
+        cpu_destroy(be);
+        return st;
+    }
+    *out = be;
+    return SPH_OK;
+}

@@ -1,0 +1,56 @@
+/* backend_cpu.h — the native backend's seam between its generic host part
+ * (backend_cpu.c: allocation, sort, permutation) and the physics, which is the
+ * device/ source compiled as C once per dimension and precision
+ * (backend_cpu_kernels.c, four instances: cpu_2d_f64, cpu_2d_f32, cpu_3d_f64,
+ * cpu_3d_f32). */
+#ifndef SPH_BACKEND_CPU_H
+#define SPH_BACKEND_CPU_H
+
+#include "fields.h"
+#include "grid.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* Buffers in the variant's precision, passed as untyped pointers. */
+typedef struct {
+    int n, cap;
+    void *field[FIELD_COUNT]; /* NULL when the field is not present */
+    int32_t *nbr_count, *nbr_j;
+    void *pair_e, *pair_dwv, *pair_inv_r;
+    uint64_t *keys;
+    int32_t *cell_start, *cell_end;
+    void *prm;          /* real[PRM_COUNT] */
+    void *grid_geom;    /* real[4]: origin, 1/cell */
+    void *partials;     /* real[ngroups * ncomp] */
+    void *substep_sums; /* real[1 + SPH_MAX_BODIES * 9] */
+    int ngroups;
+    bool parallel; /* run the loops on the OpenMP team (else on the calling thread) */
+} cpu_buffers;
+
+typedef struct {
+    int dim;
+    bool double_precision;
+    /* V = m/rho; out: -min x (dim), max x (dim), max |v|^2, max 4h|a| */
+    void (*rebuild_reduce)(cpu_buffers *b, double *out);
+    void (*cell_keys)(cpu_buffers *b, const sph_grid *g);
+    /* returns the largest neighbour count when it exceeds cap, else 0 */
+    int (*build_neighbours)(cpu_buffers *b, const sph_grid *g);
+    void (*substep)(cpu_buffers *b, double dt, double *max_speed2);
+    /* kinetic, strain, momentum (dim), angular (1 or 3) */
+    void (*diagnostics)(cpu_buffers *b, double *out);
+    /* physics probes for unit tests and observers */
+    double (*kernel_w)(const double *prm, double r);
+    double (*kernel_dw)(const double *prm, double r);
+    /* Rodrigues matrix (row-major dim x dim) of spin components w over dt */
+    void (*rodrigues)(const double *w, double dt, double *rot);
+    /* pair terms of sph_riemann.h for states i, j (vectors of length dim) */
+    void (*riemann_pair)(const double *v_i, const double *v_j, double p_i, double p_j, double z,
+                         double dw, const double *e_ij, double *pressure, double *dissipation,
+                         double *continuity);
+} cpu_kernels;
+
+extern const cpu_kernels cpu_2d_f64, cpu_2d_f32, cpu_3d_f64, cpu_3d_f32;
+const cpu_kernels *cpu_kernels_for(int dim, bool double_precision);
+
+#endif

@@ -1,0 +1,196 @@
+/* backend_cpu_kernels.c — the device/ physics compiled as C for the native
+ * backend.  CMake builds this file four times (SPH_DIM = 2, 3 x SPH_DOUBLE =
+ * 1, 0); CPU_VARIANT names the exported table.  The per-item kernels of
+ * device/ become loop bodies of OpenMP loops; the reductions use the same
+ * per-particle contributions and the same fixed blocks of SPH_WG particles
+ * as the OpenCL work-groups.
+ */
+#include "backend_cpu.h"
+
+#include "neighbour_build.cl"
+#include "acoustic_step.cl"
+#include "reduction.cl"
+
+/* Reduce CONTRIB(i, c) over all particles in blocks of SPH_WG: each block
+ * combines its particles in order, then the blocks are combined in order, so
+ * the result does not depend on the number of threads. */
+#define BLOCK_REDUCE(b, nmax, ncomp, result, CONTRIB)                                              \
+    do {                                                                                           \
+        real *partials_ = (real *)(b)->partials;                                                   \
+        const int n_ = (b)->n;                                                                     \
+        const int ngroups_ = (n_ + SPH_WG - 1) / SPH_WG;                                           \
+        _Pragma("omp for schedule(static)") for (int g_ = 0; g_ < ngroups_; ++g_) {                \
+            real acc_[SUBSTEP_NCOMP_MAX > REBUILD_NCOMP ? SUBSTEP_NCOMP_MAX : REBUILD_NCOMP];       \
+            real c_[SUBSTEP_NCOMP_MAX > REBUILD_NCOMP ? SUBSTEP_NCOMP_MAX : REBUILD_NCOMP];        \
+            reduce_identity(acc_, (nmax), (ncomp));                                                \
+            const int end_ = (g_ + 1) * SPH_WG < n_ ? (g_ + 1) * SPH_WG : n_;                      \
+            for (int i = g_ * SPH_WG; i < end_; ++i) {                                             \
+                CONTRIB;                                                                           \
+                reduce_combine(acc_, c_, (nmax), (ncomp));                                         \
+            }                                                                                      \
+            for (int k_ = 0; k_ < (ncomp); ++k_) partials_[g_ * (ncomp) + k_] = acc_[k_];          \
+        }                                                                                          \
+        _Pragma("omp single") {                                                                    \
+            reduce_identity((result), (nmax), (ncomp));                                            \
+            for (int g_ = 0; g_ < ngroups_; ++g_)                                                  \
+                reduce_combine((result), partials_ + g_ * (ncomp), (nmax), (ncomp));               \
+        }                                                                                          \
+    } while (0)
+
+#define F_REAL(b, f) ((real *)(b)->field[f])
+#define F_U8(b, f) ((u8 *)(b)->field[f])
+
+static void rebuild_reduce_impl(cpu_buffers *b, double *out) {
+    real result[REBUILD_NCOMP];
+    CONSTANT real *prm = (const real *)b->prm;
+#pragma omp parallel if (b->parallel)
+    BLOCK_REDUCE(b, REBUILD_NCOMP, REBUILD_NCOMP, result,
+                 rebuild_contrib(i, n_, prm, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                                 F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
+                                 F_REAL(b, FIELD_ACC_DISS), c_));
+    for (int k = 0; k < REBUILD_NCOMP; ++k) out[k] = (double)result[k];
+}
+
+static void store_grid(cpu_buffers *b, const sph_grid *g) {
+    real *geom = (real *)b->grid_geom;
+    for (int a = 0; a < 3; ++a) geom[a] = (real)g->origin[a];
+    geom[GRID_INV_CELL] = (real)(1.0 / g->cell);
+}
+
+static void cell_keys_impl(cpu_buffers *b, const sph_grid *g) {
+    store_grid(b, g);
+    const int n = b->n;
+#pragma omp parallel for schedule(static) if (b->parallel)
+    for (int i = 0; i < n; ++i)
+        cell_keys(i, n, n, F_REAL(b, FIELD_POS), (const real *)b->grid_geom, g->dims[0],
+                  g->dims[1], g->dims[2], b->keys);
+}
+
+static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g) {
+    store_grid(b, g);
+    const int n = b->n;
+    int overflow = 0;
+#pragma omp parallel for schedule(static) if (b->parallel)
+    for (int i = 0; i < n; ++i)
+        build_neighbours(i, n, b->cap, (const real *)b->prm, F_REAL(b, FIELD_POS),
+                         F_REAL(b, FIELD_VOL), (const real *)b->grid_geom, g->dims[0], g->dims[1],
+                         g->dims[2], b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
+                         (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r,
+                         F_REAL(b, FIELD_BMAT), &overflow);
+    return overflow;
+}
+
+/* One substep in one parallel region with two barriers: the pressure pass,
+ * then the velocity-terms pass over fixed blocks of SPH_WG particles, each
+ * block also reducing its contributions (|v|^2, Rodrigues matrices) into its
+ * partial row; the rows are combined in block order afterwards. */
+static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
+    const real dt = (real)dt_in;
+    const int n = b->n, cap = b->cap;
+    CONSTANT real *prm = (const real *)b->prm;
+    real *sums = (real *)b->substep_sums;
+    real *partials = (real *)b->partials;
+    const int ncomp = substep_ncomp(prm);
+    const int ngroups = (n + SPH_WG - 1) / SPH_WG;
+#pragma omp parallel if (b->parallel)
+    {
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            acoustic_pressure(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                              (const real *)b->pair_dwv, F_REAL(b, FIELD_RHO),
+                              F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                              F_REAL(b, FIELD_ACC_DISS), F_REAL(b, FIELD_ACC_SHEAR),
+                              F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                              F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY),
+                              F_REAL(b, FIELD_POS0), F_U8(b, FIELD_FIXED));
+#pragma omp for schedule(static)
+        for (int g = 0; g < ngroups; ++g) {
+            const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;
+            for (int i = g * SPH_WG; i < end; ++i)
+                acoustic_velocity_terms(
+                    i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_REAL(b, FIELD_VEL),
+                    F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
+                    F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_ACC_DISS),
+                    F_REAL(b, FIELD_TAU), F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
+                    F_REAL(b, FIELD_SPIN));
+            real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
+            reduce_identity(acc, 1, ncomp);
+            for (int i = g * SPH_WG; i < end; ++i) {
+                substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
+                                F_U8(b, FIELD_BODY), c);
+                reduce_combine(acc, c, 1, ncomp);
+            }
+            for (int k = 0; k < ncomp; ++k) partials[g * ncomp + k] = acc[k];
+        }
+    }
+    reduce_identity(sums, 1, ncomp);
+    for (int g = 0; g < ngroups; ++g) reduce_combine(sums, partials + g * ncomp, 1, ncomp);
+    *max_speed2 = (double)sums[0];
+}
+
+static void diagnostics_impl(cpu_buffers *b, double *out) {
+    CONSTANT real *prm = (const real *)b->prm;
+    real result[DIAG_NCOMP];
+#pragma omp parallel if (b->parallel)
+    BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
+                 diagnostics_contrib(i, n_, prm, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                                     F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_RHO),
+                                     F_REAL(b, FIELD_TAU), c_));
+    for (int k = 0; k < DIAG_NCOMP; ++k) out[k] = (double)result[k];
+}
+
+/* ---- physics probes ---------------------------------------------------- */
+
+static void params_to_real(const double *prm_in, real *prm_out) {
+    for (int k = 0; k < PRM_COUNT; ++k) prm_out[k] = (real)prm_in[k];
+}
+static double probe_kernel_w(const double *prm_in, double r) {
+    real prm[PRM_COUNT];
+    params_to_real(prm_in, prm);
+    return (double)kernel_w(prm, (real)r);
+}
+static double probe_kernel_dw(const double *prm_in, double r) {
+    real prm[PRM_COUNT];
+    params_to_real(prm_in, prm);
+    return (double)kernel_dw(prm, (real)r);
+}
+static void probe_rodrigues(const double *w_in, double dt, double *rot) {
+    real w[NSPIN];
+    for (int a = 0; a < NSPIN; ++a) w[a] = (real)w_in[a];
+    const mat r = rodrigues(spin_matrix(w), (real)dt);
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int c = 0; c < SPH_DIM; ++c) rot[a * SPH_DIM + c] = (double)r.m[a][c];
+}
+static vec vec_from(const double *x) {
+    vec v;
+    for (int a = 0; a < SPH_DIM; ++a) v.c[a] = (real)x[a];
+    return v;
+}
+static void probe_riemann_pair(const double *v_i, const double *v_j, double p_i, double p_j,
+                               double z, double dw, const double *e_ij, double *pressure,
+                               double *dissipation, double *continuity) {
+    const vec e = vec_from(e_ij);
+    const real u = vec_dot(vec_sub(vec_from(v_i), vec_from(v_j)), e);
+    const vec fp = riemann_pressure_pair((real)p_i, (real)p_j, (real)dw, e);
+    const vec fd = vec_scale(riemann_dissipation_pair(u, R(1), R(0), (real)dw, e), (real)z);
+    for (int a = 0; a < SPH_DIM; ++a) {
+        pressure[a] = (double)fp.c[a];
+        dissipation[a] = (double)fd.c[a];
+    }
+    *continuity = (double)riemann_continuity_pair(u, (real)dw);
+}
+
+const cpu_kernels CPU_VARIANT = {
+    .dim = SPH_DIM,
+    .double_precision = SPH_DOUBLE,
+    .rebuild_reduce = rebuild_reduce_impl,
+    .cell_keys = cell_keys_impl,
+    .build_neighbours = build_neighbours_impl,
+    .substep = substep_impl,
+    .diagnostics = diagnostics_impl,
+    .kernel_w = probe_kernel_w,
+    .kernel_dw = probe_kernel_dw,
+    .rodrigues = probe_rodrigues,
+    .riemann_pair = probe_riemann_pair,
+};

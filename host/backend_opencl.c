@@ -1,0 +1,595 @@
+/* backend_opencl.c — the OpenCL device backend.
+ *
+ * The program is built for the scene's feature set (feature_set.c), so buffers
+ * and kernel arguments of unused features do not exist.  Every phase of the
+ * scheme runs on the device: the configuration rebuild (reduction, cell keys,
+ * bitonic sort, permutation of all fields, cell ranges, neighbour lists with
+ * the frozen pair geometry and B), the acoustic substeps and the reductions.
+ * Inside the acoustic loop only reduced scalars come back to the host (the
+ * maximum speed that sets the next step size); particle data crosses only
+ * when the host asks for it (output).
+ */
+#include "backend.h"
+#include "grid.h"
+#include "opencl_runtime.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SUBSTEP_SUMS_LEN (1 + SPH_MAX_BODIES * 9)
+#define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
+#define RESULT_LEN 16
+
+/* Indices of the named resources kernels are bound to. */
+enum {
+    RES_FIELD0 = 0, /* FIELD_COUNT field buffers */
+    RES_NBR_COUNT = FIELD_COUNT,
+    RES_NBR_J,
+    RES_PAIR_E,
+    RES_PAIR_DWV,
+    RES_PAIR_INV_R,
+    RES_KEYS,
+    RES_CELL_START,
+    RES_CELL_END,
+    RES_PRM,
+    RES_GRID_GEOM,
+    RES_PARTIALS,
+    RES_SUBSTEP_SUMS,
+    RES_OVERFLOW,
+    RES_N,
+    RES_NPAD,
+    RES_CAP,
+    RES_GX,
+    RES_GY,
+    RES_GZ,
+    RES_COUNT
+};
+
+typedef struct {
+    sph_cl_kernel cell_keys, permute_real, permute_int, permute_u8, cell_ranges, build, sort_local,
+        merge_local, sort_global, pressure, velocity_terms, rebuild_reduce, substep_reduce,
+        diagnostics_reduce, finalize;
+} kernel_set;
+
+typedef struct {
+    sph_opencl_device_info dev;
+    cl_context ctx;
+    cl_command_queue queue;
+    cl_program program;
+    kernel_set k;
+    cl_mem field[FIELD_COUNT], spare[FIELD_COUNT];
+    cl_mem nbr_count, nbr_j, pair_e, pair_dwv, pair_inv_r, keys, cell_start, cell_end, prm,
+        grid_geom, partials, substep_sums, overflow, result;
+    cl_int n, npad, cap, gx, gy, gz, ngroups;
+    size_t real_size;
+    size_t wg, sort_wg;
+    bool row_major;
+    long cells_allocated;
+    sph_cl_arg res[RES_COUNT];
+} ocl_impl;
+
+static sph_status cl_check(cl_int rc, const char *what, sph_error *err) {
+    if (rc == CL_SUCCESS) return SPH_OK;
+    return sph_fail(err, SPH_ERR_RUNTIME, "%s failed: %s (%d)", what, sph_cl_error_name(rc), rc);
+}
+
+static size_t round_up(size_t x, size_t m) { return (x + m - 1) / m * m; }
+
+static sph_status make_buffer(sph_backend *be, ocl_impl *o, const char *name, size_t bytes,
+                              cl_mem *out, sph_error *err) {
+    cl_int rc;
+    if (bytes == 0) bytes = 16;
+    if (bytes > o->dev.max_alloc)
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "buffer '%s' needs %.1f MiB but the device allows at most %.1f MiB per "
+                        "allocation",
+                        name, (double)bytes / 1048576.0, (double)o->dev.max_alloc / 1048576.0);
+    *out = clCreateBuffer(o->ctx, CL_MEM_READ_WRITE, bytes, NULL, &rc);
+    if (rc != CL_SUCCESS)
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "device out of memory: buffer '%s' (%.1f MiB) could not be allocated "
+                        "(%s); total so far %.1f MiB of %.1f MiB",
+                        name, (double)bytes / 1048576.0, sph_cl_error_name(rc),
+                        (double)sph_backend_total_bytes(be) / 1048576.0,
+                        (double)o->dev.global_mem / 1048576.0);
+    sph_backend_record_buffer(be, name, bytes);
+    return SPH_OK;
+}
+
+static void release(cl_mem *m) {
+    if (*m) clReleaseMemObject(*m);
+    *m = NULL;
+}
+
+static size_t field_bytes(const sph_backend *be, sph_field f) {
+    const sph_field_info *info = &be->fields[f];
+    return (size_t)be->n * (size_t)info->components *
+           sph_field_element_size(info->type, be->features.double_precision);
+}
+
+/* The resource table points at the live handles and scalars, so swapped
+ * buffers and regrown arrays are picked up at the next bind. */
+static void fill_resources(sph_backend *be, ocl_impl *o) {
+    for (int f = 0; f < FIELD_COUNT; ++f)
+        o->res[RES_FIELD0 + f] = (sph_cl_arg){be->fields[f].name, sizeof(cl_mem), &o->field[f]};
+    o->res[RES_NBR_COUNT] = (sph_cl_arg){"nbr_count", sizeof(cl_mem), &o->nbr_count};
+    o->res[RES_NBR_J] = (sph_cl_arg){"nbr_j", sizeof(cl_mem), &o->nbr_j};
+    o->res[RES_PAIR_E] = (sph_cl_arg){"pair_e", sizeof(cl_mem), &o->pair_e};
+    o->res[RES_PAIR_DWV] = (sph_cl_arg){"pair_dwv", sizeof(cl_mem), &o->pair_dwv};
+    o->res[RES_PAIR_INV_R] = (sph_cl_arg){"pair_inv_r", sizeof(cl_mem), &o->pair_inv_r};
+    o->res[RES_KEYS] = (sph_cl_arg){"keys", sizeof(cl_mem), &o->keys};
+    o->res[RES_CELL_START] = (sph_cl_arg){"cell_start", sizeof(cl_mem), &o->cell_start};
+    o->res[RES_CELL_END] = (sph_cl_arg){"cell_end", sizeof(cl_mem), &o->cell_end};
+    o->res[RES_PRM] = (sph_cl_arg){"prm", sizeof(cl_mem), &o->prm};
+    o->res[RES_GRID_GEOM] = (sph_cl_arg){"grid_geom", sizeof(cl_mem), &o->grid_geom};
+    o->res[RES_PARTIALS] = (sph_cl_arg){"partials", sizeof(cl_mem), &o->partials};
+    o->res[RES_SUBSTEP_SUMS] = (sph_cl_arg){"substep_sums", sizeof(cl_mem), &o->substep_sums};
+    o->res[RES_OVERFLOW] = (sph_cl_arg){"overflow", sizeof(cl_mem), &o->overflow};
+    o->res[RES_N] = (sph_cl_arg){"n", sizeof(cl_int), &o->n};
+    o->res[RES_NPAD] = (sph_cl_arg){"npad", sizeof(cl_int), &o->npad};
+    o->res[RES_CAP] = (sph_cl_arg){"cap", sizeof(cl_int), &o->cap};
+    o->res[RES_GX] = (sph_cl_arg){"gx", sizeof(cl_int), &o->gx};
+    o->res[RES_GY] = (sph_cl_arg){"gy", sizeof(cl_int), &o->gy};
+    o->res[RES_GZ] = (sph_cl_arg){"gz", sizeof(cl_int), &o->gz};
+}
+
+/* Bind and enqueue a 1-D launch of `global` items in groups of `local`. */
+static sph_status launch(ocl_impl *o, sph_cl_kernel *k, size_t global, size_t local,
+                         const sph_cl_arg *overrides, int noverrides, sph_error *err) {
+    sph_status st = sph_cl_kernel_bind(k, o->res, overrides, noverrides, err);
+    if (st) return st;
+    global = round_up(global, local);
+    const cl_int rc =
+        clEnqueueNDRangeKernel(o->queue, k->kernel, 1, NULL, &global, &local, 0, NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return sph_fail(err, SPH_ERR_RUNTIME, "launching kernel %s failed: %s", k->name,
+                        sph_cl_error_name(rc));
+    return SPH_OK;
+}
+
+/* A real-valued scalar argument in the program's precision. */
+typedef struct {
+    double d;
+    float f;
+} real_scalar;
+static sph_cl_arg real_arg(const ocl_impl *o, const char *name, real_scalar *s, double value) {
+    s->d = value;
+    s->f = (float)value;
+    return o->real_size == sizeof(double) ? (sph_cl_arg){name, sizeof(double), &s->d}
+                                          : (sph_cl_arg){name, sizeof(float), &s->f};
+}
+
+static sph_status read_reals(ocl_impl *o, cl_mem buf, size_t offset, size_t count, double *out,
+                             sph_error *err) {
+    const size_t bytes = count * o->real_size;
+    void *tmp = malloc(bytes);
+    if (!tmp) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    const cl_int rc = clEnqueueReadBuffer(o->queue, buf, CL_TRUE, offset * o->real_size, bytes,
+                                          tmp, 0, NULL, NULL);
+    if (rc == CL_SUCCESS)
+        for (size_t k = 0; k < count; ++k)
+            out[k] = o->real_size == sizeof(double) ? ((double *)tmp)[k]
+                                                    : (double)((float *)tmp)[k];
+    free(tmp);
+    return cl_check(rc, "reading a device buffer", err);
+}
+
+static sph_status write_reals(ocl_impl *o, cl_mem buf, const double *values, size_t count,
+                              sph_error *err) {
+    const size_t bytes = count * o->real_size;
+    void *tmp = malloc(bytes);
+    if (!tmp) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    for (size_t k = 0; k < count; ++k) {
+        if (o->real_size == sizeof(double))
+            ((double *)tmp)[k] = values[k];
+        else
+            ((float *)tmp)[k] = (float)values[k];
+    }
+    const cl_int rc = clEnqueueWriteBuffer(o->queue, buf, CL_TRUE, 0, bytes, tmp, 0, NULL, NULL);
+    free(tmp);
+    return cl_check(rc, "writing a device buffer", err);
+}
+
+/* Two-stage reduction into `result` (device) of `ncomp` components. */
+static sph_status finalize(ocl_impl *o, int nmax, int ncomp, cl_mem result, sph_error *err) {
+    cl_int nmax_i = nmax, ncomp_i = ncomp;
+    const sph_cl_arg args[] = {{"ngroups", sizeof(cl_int), &o->ngroups},
+                               {"nmax", sizeof(cl_int), &nmax_i},
+                               {"ncomp", sizeof(cl_int), &ncomp_i},
+                               {"result", sizeof(cl_mem), &result}};
+    return launch(o, &o->k.finalize, o->wg, o->wg, args, 4, err);
+}
+
+static sph_status alloc_pairs(sph_backend *be, ocl_impl *o, int cap, sph_error *err) {
+    release(&o->nbr_j);
+    release(&o->pair_e);
+    release(&o->pair_dwv);
+    release(&o->pair_inv_r);
+    o->cap = cap;
+    const size_t slots = (size_t)be->n * (size_t)cap;
+    sph_status st = make_buffer(be, o, "nbr_j", slots * sizeof(cl_int), &o->nbr_j, err);
+    if (!st)
+        st = make_buffer(be, o, "pair_e", slots * (size_t)be->features.dim * o->real_size,
+                         &o->pair_e, err);
+    if (!st) st = make_buffer(be, o, "pair_dwv", slots * o->real_size, &o->pair_dwv, err);
+    if (!st) st = make_buffer(be, o, "pair_inv_r", slots * o->real_size, &o->pair_inv_r, err);
+    return st;
+}
+
+static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error *err) {
+    ocl_impl *o = be->impl;
+    const int n = be->n, d = be->features.dim;
+    if (p->n != n || p->dim != d)
+        return sph_fail(err, SPH_ERR_RUNTIME, "particle set does not match the backend");
+    const unsigned char zero = 0;
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        if (!o->field[f]) continue;
+        sph_status st = cl_check(clEnqueueFillBuffer(o->queue, o->field[f], &zero, 1, 0,
+                                                     field_bytes(be, (sph_field)f), 0, NULL, NULL),
+                                 "clearing a field", err);
+        if (st) return st;
+    }
+    double *vol = malloc((size_t)n * sizeof(double));
+    if (!vol) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    for (int i = 0; i < n; ++i) vol[i] = p->mass[i] / p->rho[i];
+    sph_status st = write_reals(o, o->field[FIELD_POS], p->pos, (size_t)d * n, err);
+    if (!st) st = write_reals(o, o->field[FIELD_VEL], p->vel, (size_t)d * n, err);
+    if (!st) st = write_reals(o, o->field[FIELD_MASS], p->mass, (size_t)n, err);
+    if (!st) st = write_reals(o, o->field[FIELD_RHO], p->rho, (size_t)n, err);
+    if (!st) st = write_reals(o, o->field[FIELD_VOL], vol, (size_t)n, err);
+    if (!st && o->field[FIELD_POS0])
+        st = write_reals(o, o->field[FIELD_POS0], p->pos, (size_t)d * n, err);
+    free(vol);
+    if (st) return st;
+    cl_int rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_ID], CL_TRUE, 0,
+                                     (size_t)n * sizeof(cl_int), p->id, 0, NULL, NULL);
+    if (rc == CL_SUCCESS && o->field[FIELD_BODY])
+        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_BODY], CL_TRUE, 0, (size_t)n, p->body,
+                                  0, NULL, NULL);
+    if (rc == CL_SUCCESS && o->field[FIELD_FIXED])
+        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_FIXED], CL_TRUE, 0, (size_t)n,
+                                  p->fixed, 0, NULL, NULL);
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueFillBuffer(o->queue, o->substep_sums, &zero, 1, 0,
+                                 SUBSTEP_SUMS_LEN * o->real_size, 0, NULL, NULL);
+    return cl_check(rc, "uploading the particles", err);
+}
+
+static sph_status sort_keys(ocl_impl *o, sph_error *err) {
+    const size_t npad = (size_t)o->npad;
+    sph_status st = launch(o, &o->k.sort_local, npad, o->sort_wg, NULL, 0, err);
+    for (cl_int k = (cl_int)o->sort_wg * 2; !st && k <= o->npad; k <<= 1) {
+        for (cl_int j = k / 2; !st && j >= (cl_int)o->sort_wg; j >>= 1) {
+            const sph_cl_arg args[] = {{"j", sizeof(cl_int), &j}, {"k", sizeof(cl_int), &k}};
+            st = launch(o, &o->k.sort_global, npad, o->sort_wg, args, 2, err);
+        }
+        if (!st) {
+            const sph_cl_arg args[] = {{"k", sizeof(cl_int), &k}};
+            st = launch(o, &o->k.merge_local, npad, o->sort_wg, args, 1, err);
+        }
+    }
+    return st;
+}
+
+static sph_status permute_fields(sph_backend *be, ocl_impl *o, sph_error *err) {
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        if (!o->field[f]) continue;
+        cl_int ncomp = be->fields[f].components;
+        const sph_cl_arg args[] = {{"ncomp", sizeof(cl_int), &ncomp},
+                                   {"src", sizeof(cl_mem), &o->field[f]},
+                                   {"dst", sizeof(cl_mem), &o->spare[f]}};
+        sph_cl_kernel *k = be->fields[f].type == FIELD_TYPE_REAL    ? &o->k.permute_real
+                           : be->fields[f].type == FIELD_TYPE_INT32 ? &o->k.permute_int
+                                                                    : &o->k.permute_u8;
+        sph_status st = launch(o, k, (size_t)be->n, o->wg, args, 3, err);
+        if (st) return st;
+        cl_mem t = o->field[f];
+        o->field[f] = o->spare[f];
+        o->spare[f] = t;
+    }
+    return SPH_OK;
+}
+
+static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error *err) {
+    ocl_impl *o = be->impl;
+    const int d = be->features.dim;
+    const int ncomp = 2 * d + 2;
+    sph_status st = launch(o, &o->k.rebuild_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
+    if (!st) st = finalize(o, ncomp, ncomp, o->result, err);
+    double red[8];
+    if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
+    if (st) return st;
+    for (int a = 0; a < 3; ++a) {
+        info->lower[a] = a < d ? -red[a] : 0.0;
+        info->upper[a] = a < d ? red[d + a] : 0.0;
+    }
+    info->max_speed2 = red[2 * d];
+    info->max_accel_term = red[2 * d + 1];
+
+    sph_grid grid;
+    double cutoff;
+    st = read_reals(o, o->prm, PRM_CUTOFF, 1, &cutoff, err);
+    if (!st) st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err);
+    if (st) return st;
+    if (grid.ncells > o->cells_allocated) {
+        release(&o->cell_start);
+        release(&o->cell_end);
+        const size_t bytes = (size_t)grid.ncells * sizeof(cl_int);
+        st = make_buffer(be, o, "cell_start", bytes, &o->cell_start, err);
+        if (!st) st = make_buffer(be, o, "cell_end", bytes, &o->cell_end, err);
+        if (st) return st;
+        o->cells_allocated = grid.ncells;
+    }
+    o->gx = grid.dims[0];
+    o->gy = grid.dims[1];
+    o->gz = grid.dims[2];
+    double geom[4] = {grid.origin[0], grid.origin[1], grid.origin[2], 1.0 / grid.cell};
+    st = write_reals(o, o->grid_geom, geom, 4, err);
+    if (!st) st = launch(o, &o->k.cell_keys, (size_t)o->npad, o->wg, NULL, 0, err);
+    if (!st) st = sort_keys(o, err);
+    if (!st) st = permute_fields(be, o, err);
+    if (st) return st;
+    const cl_int zero = 0;
+    st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_start, &zero, sizeof zero, 0,
+                                      (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
+                  "clearing cell ranges", err);
+    if (!st)
+        st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_end, &zero, sizeof zero, 0,
+                                          (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
+                      "clearing cell ranges", err);
+    if (!st) st = launch(o, &o->k.cell_ranges, (size_t)be->n, o->wg, NULL, 0, err);
+    while (!st) {
+        cl_int needed = 0;
+        st = cl_check(clEnqueueFillBuffer(o->queue, o->overflow, &zero, sizeof zero, 0,
+                                          sizeof(cl_int), 0, NULL, NULL),
+                      "clearing the overflow flag", err);
+        if (!st) st = launch(o, &o->k.build, (size_t)be->n, o->wg, NULL, 0, err);
+        if (!st)
+            st = cl_check(clEnqueueReadBuffer(o->queue, o->overflow, CL_TRUE, 0, sizeof needed,
+                                              &needed, 0, NULL, NULL),
+                          "reading the neighbour count", err);
+        if (st || needed == 0) break;
+        st = alloc_pairs(be, o, needed + needed / 4 + 2, err);
+    }
+    info->max_neighbours = o->cap;
+    return st;
+}
+
+static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sph_error *err) {
+    ocl_impl *o = be->impl;
+    real_scalar dt_s;
+    const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
+    const size_t items = (size_t)be->n;
+    const int ncomp =
+        be->features.rotation == SPH_ROTATION_AVERAGED ? 1 + be->features.nbodies * be->features.dim * be->features.dim : 1;
+    sph_status st = launch(o, &o->k.pressure, items, o->wg, &dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.velocity_terms, items, o->wg, &dt_arg, 1, err);
+    if (!st)
+        st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, &dt_arg, 1, err);
+    if (!st) st = finalize(o, 1, ncomp, o->substep_sums, err);
+    if (!st) st = read_reals(o, o->substep_sums, 0, 1, max_speed2, err);
+    return st;
+}
+
+static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_error *err) {
+    ocl_impl *o = be->impl;
+    const int d = be->features.dim;
+    const int ncomp = 2 + d + (d == 2 ? 1 : 3);
+    double red[8];
+    sph_status st =
+        launch(o, &o->k.diagnostics_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
+    if (!st) st = finalize(o, 0, ncomp, o->result, err);
+    if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
+    if (st) return st;
+    memset(out, 0, sizeof *out);
+    out->kinetic = red[0];
+    out->strain = red[1];
+    for (int a = 0; a < d; ++a) out->momentum[a] = red[2 + a];
+    if (d == 2)
+        out->angular[2] = red[2 + d];
+    else
+        for (int a = 0; a < 3; ++a) out->angular[a] = red[2 + d + a];
+    return SPH_OK;
+}
+
+static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
+    ocl_impl *o = be->impl;
+    if (!o->field[f])
+        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
+                        be->fields[f].name);
+    const sph_field_info *info = &be->fields[f];
+    if (info->type == FIELD_TYPE_REAL)
+        return read_reals(o, o->field[f], 0, (size_t)be->n * (size_t)info->components, host, err);
+    return cl_check(clEnqueueReadBuffer(o->queue, o->field[f], CL_TRUE, 0, field_bytes(be, f),
+                                        host, 0, NULL, NULL),
+                    "reading a field", err);
+}
+
+static sph_status ocl_download_neighbours(sph_backend *be, sph_neighbour_lists *out,
+                                          sph_error *err) {
+    ocl_impl *o = be->impl;
+    const size_t n = (size_t)be->n, cap = (size_t)o->cap;
+    out->n = be->n;
+    out->cap = o->cap;
+    out->count = malloc(n * sizeof(int32_t));
+    out->j = malloc(n * cap * sizeof(int32_t));
+    int32_t *raw = malloc(n * cap * sizeof(int32_t));
+    if (!out->count || !out->j || !raw) {
+        free(raw);
+        sph_neighbour_lists_free(out);
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
+    cl_int rc = clEnqueueReadBuffer(o->queue, o->nbr_count, CL_TRUE, 0, n * sizeof(int32_t),
+                                    out->count, 0, NULL, NULL);
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueReadBuffer(o->queue, o->nbr_j, CL_TRUE, 0, n * cap * sizeof(int32_t), raw, 0,
+                                 NULL, NULL);
+    for (size_t i = 0; i < n; ++i)
+        for (size_t k = 0; k < cap; ++k)
+            out->j[i * cap + k] = o->row_major ? raw[i * cap + k] : raw[k * n + i];
+    free(raw);
+    return cl_check(rc, "reading the neighbour lists", err);
+}
+
+static void ocl_destroy(sph_backend *be) {
+    ocl_impl *o = be->impl;
+    if (o) {
+        if (o->queue) clFinish(o->queue);
+        sph_cl_kernel *all = (sph_cl_kernel *)&o->k;
+        for (size_t k = 0; k < sizeof o->k / sizeof(sph_cl_kernel); ++k)
+            sph_cl_kernel_release(&all[k]);
+        for (int f = 0; f < FIELD_COUNT; ++f) {
+            release(&o->field[f]);
+            release(&o->spare[f]);
+        }
+        cl_mem *bufs[] = {&o->nbr_count, &o->nbr_j,    &o->pair_e,   &o->pair_dwv,
+                          &o->pair_inv_r, &o->keys,    &o->cell_start, &o->cell_end,
+                          &o->prm,        &o->grid_geom, &o->partials, &o->substep_sums,
+                          &o->overflow,   &o->result};
+        for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) release(bufs[k]);
+        if (o->program) clReleaseProgram(o->program);
+        if (o->queue) clReleaseCommandQueue(o->queue);
+        if (o->ctx) clReleaseContext(o->ctx);
+        free(o);
+    }
+    free(be);
+}
+
+static const sph_backend_ops ocl_ops = {
+    .upload = ocl_upload,
+    .rebuild = ocl_rebuild,
+    .substep = ocl_substep,
+    .diagnostics = ocl_diagnostics,
+    .download = ocl_download,
+    .download_neighbours = ocl_download_neighbours,
+    .destroy = ocl_destroy,
+};
+
+static sph_status create_kernels(ocl_impl *o, sph_error *err) {
+    struct {
+        sph_cl_kernel *k;
+        const char *name;
+    } table[] = {{&o->k.cell_keys, "cell_keys"},
+                 {&o->k.permute_real, "permute_real"},
+                 {&o->k.permute_int, "permute_int"},
+                 {&o->k.permute_u8, "permute_u8"},
+                 {&o->k.cell_ranges, "cell_ranges"},
+                 {&o->k.build, "build_neighbours"},
+                 {&o->k.sort_local, "bitonic_local_sort"},
+                 {&o->k.merge_local, "bitonic_local_merge"},
+                 {&o->k.sort_global, "bitonic_global"},
+                 {&o->k.pressure, "acoustic_pressure"},
+                 {&o->k.velocity_terms, "acoustic_velocity_terms"},
+                 {&o->k.rebuild_reduce, "rebuild_reduce"},
+                 {&o->k.substep_reduce, "substep_reduce"},
+                 {&o->k.diagnostics_reduce, "diagnostics_reduce"},
+                 {&o->k.finalize, "reduce_finalize"}};
+    for (size_t t = 0; t < sizeof table / sizeof table[0]; ++t) {
+        sph_status st =
+            sph_cl_kernel_create(o->program, table[t].name, o->res, RES_COUNT, table[t].k, err);
+        if (st) return st;
+    }
+    return SPH_OK;
+}
+
+static size_t pow2_floor(size_t x) {
+    size_t p = 1;
+    while (p * 2 <= x) p *= 2;
+    return p;
+}
+
+sph_status sph_backend_opencl_create(int device_index, const sph_features *f,
+                                     const double prm[PRM_COUNT], int n, bool quiet,
+                                     sph_backend **out, sph_error *err) {
+    *out = NULL;
+    if (device_index < 0) {
+        /* --backend opencl without --device: the first GPU, else device 0 */
+        char reason[256];
+        device_index = sph_opencl_find_gpu(reason, sizeof reason);
+        if (device_index < 0) device_index = 0;
+    }
+    sph_backend *be = calloc(1, sizeof *be);
+    ocl_impl *o = calloc(1, sizeof *o);
+    if (!be || !o) {
+        free(be);
+        free(o);
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
+    be->impl = o;
+    be->ops = &ocl_ops;
+    be->kind_name = "opencl";
+    be->features = *f;
+    be->n = n;
+    sph_fields_layout(f, be->fields);
+    sph_status st = sph_opencl_device_info_get(device_index, &o->dev, err);
+    if (st) goto fail;
+    if (f->double_precision && !o->dev.has_fp64) {
+        st = sph_fail(err, SPH_ERR_INPUT,
+                      "OpenCL device %d (%s) has no double precision (cl_khr_fp64); run with "
+                      "--precision single",
+                      device_index, o->dev.name);
+        goto fail;
+    }
+    sph_format(be->device_name, sizeof be->device_name, "%s (%s, %s)", o->dev.name,
+             o->dev.platform_name, o->dev.version);
+    o->real_size = f->double_precision ? sizeof(double) : sizeof(float);
+    o->row_major = (o->dev.type & CL_DEVICE_TYPE_CPU) != 0;
+    o->wg = pow2_floor(o->dev.max_work_group < 256 ? o->dev.max_work_group : 256);
+    o->sort_wg = pow2_floor(o->dev.max_work_group < 1024 ? o->dev.max_work_group : 1024);
+    o->n = n;
+    o->npad = (cl_int)o->sort_wg;
+    while (o->npad < n) o->npad *= 2;
+    o->ngroups = (cl_int)((n + (int)o->wg - 1) / (int)o->wg);
+
+    cl_int rc;
+    o->ctx = clCreateContext(NULL, 1, &o->dev.device, NULL, NULL, &rc);
+    if ((st = cl_check(rc, "clCreateContext", err))) goto fail;
+    o->queue = clCreateCommandQueue(o->ctx, o->dev.device, 0, &rc);
+    if ((st = cl_check(rc, "clCreateCommandQueue", err))) goto fail;
+
+    sph_features_build_options(f, (int)o->wg, (int)o->sort_wg, o->row_major, be->build_options,
+                               sizeof be->build_options);
+    if (!quiet) fprintf(stderr, "sphsolid: OpenCL build options: %s\n", be->build_options);
+    const char *files[] = {"neighbour_build.cl", "acoustic_step.cl", "reduction.cl"};
+    st = sph_opencl_build_program(o->ctx, o->dev.device, files, 3, be->build_options, &o->program,
+                                  err);
+    if (st) goto fail;
+
+    for (int k = 0; k < FIELD_COUNT && !st; ++k) {
+        if (!be->fields[k].present) continue;
+        const size_t bytes = field_bytes(be, (sph_field)k);
+        st = make_buffer(be, o, be->fields[k].name, bytes, &o->field[k], err);
+        if (!st) {
+            char spare_name[64];
+            snprintf(spare_name, sizeof spare_name, "%s (reorder copy)", be->fields[k].name);
+            st = make_buffer(be, o, spare_name, bytes, &o->spare[k], err);
+        }
+    }
+    if (!st) st = make_buffer(be, o, "nbr_count", (size_t)n * sizeof(cl_int), &o->nbr_count, err);
+    if (!st) st = make_buffer(be, o, "keys", (size_t)o->npad * sizeof(cl_ulong), &o->keys, err);
+    if (!st) st = make_buffer(be, o, "prm", PRM_COUNT * o->real_size, &o->prm, err);
+    if (!st) st = make_buffer(be, o, "grid_geom", 4 * o->real_size, &o->grid_geom, err);
+    if (!st)
+        st = make_buffer(be, o, "partials", (size_t)o->ngroups * PARTIAL_NCOMP_MAX * o->real_size,
+                         &o->partials, err);
+    if (!st)
+        st = make_buffer(be, o, "substep_sums", SUBSTEP_SUMS_LEN * o->real_size, &o->substep_sums,
+                         err);
+    if (!st) st = make_buffer(be, o, "overflow", sizeof(cl_int), &o->overflow, err);
+    if (!st) st = make_buffer(be, o, "result", RESULT_LEN * o->real_size, &o->result, err);
+    if (!st)
+        st = alloc_pairs(be, o, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]),
+                         err);
+    if (!st) st = write_reals(o, o->prm, prm, PRM_COUNT, err);
+    if (st) goto fail;
+    fill_resources(be, o);
+    st = create_kernels(o, err);
+    if (st) goto fail;
+    *out = be;
+    return SPH_OK;
+fail:
+    ocl_destroy(be);
+    return st;
+}

@@ -1,0 +1,65 @@
+#include "feature_set.h"
+
+#include "sph_constants.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,
+                             bool double_precision, sph_features *out) {
+    memset(out, 0, sizeof *out);
+    out->dim = scene->dim;
+    out->double_precision = double_precision;
+    out->formulation = scene->formulation;
+    out->rotation = scene->rotation;
+    out->kernel = scene->kernel;
+    out->stepping = scene->stepping;
+    out->has_clamp = particles->fixed != NULL && particles->fixed_count > 0;
+    out->nbodies = scene->nbodies;
+}
+
+void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
+                                bool nbr_row_major, char *buf, size_t len) {
+    snprintf(buf, len,
+             "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
+             "-DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
+             "-DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
+             f->dim, f->double_precision ? 1 : 0, (int)f->kernel, (int)f->formulation,
+             (int)f->rotation, f->has_clamp ? 1 : 0, f->nbodies, nbr_row_major ? 1 : 0, reduce_wg,
+             sort_wg);
+}
+
+sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
+                           const sph_features *f, double *prm, sph_error *err) {
+    /* One material per run: pairs of different materials need the
+     * multi-material Riemann states and contact of the benchmark library. */
+    const int material = scene->bodies[0].material;
+    for (int b = 1; b < scene->nbodies; ++b)
+        if (scene->bodies[b].material != material)
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s: bodies '%s' and '%s' use different materials; this version "
+                            "runs scenes whose bodies share one material",
+                            scene->path, scene->bodies[0].name, scene->bodies[b].name);
+    if (f->nbodies > SPH_MAX_BODIES)
+        return sph_fail(err, SPH_ERR_INPUT, "%s: %d bodies, at most %d are supported", scene->path,
+                        f->nbodies, SPH_MAX_BODIES);
+    const sph_material *m = &scene->materials[material];
+    for (int k = 0; k < PRM_COUNT; ++k) prm[k] = 0.0;
+    const double h = scene->smoothing_ratio * scene->dp;
+    prm[PRM_H] = h;
+    prm[PRM_CUTOFF] = 2.0 * h;
+    prm[PRM_RHO0] = m->density;
+    prm[PRM_C0] = m->sound_speed;
+    prm[PRM_G] = m->shear_modulus;
+    prm[PRM_K] = m->density * m->sound_speed * m->sound_speed;
+    prm[PRM_XI_E] = scene->xi_e;
+    for (int a = 0; a < 3; ++a) prm[PRM_GRAVITY + a] = a < scene->dim ? scene->gravity[a] : 0.0;
+    prm[PRM_ROTATION] = (double)f->rotation;
+    prm[PRM_KERNEL] = (double)f->kernel;
+    prm[PRM_RIEMANN_LIMIT] = scene->riemann_limiter_slope;
+    prm[PRM_NBODIES] = (double)f->nbodies;
+    prm[PRM_DP] = scene->dp;
+    for (int b = 0; b < f->nbodies; ++b) prm[PRM_BODY_COUNT + b] = (double)particles->body_count[b];
+    return SPH_OK;
+}

@@ -1,0 +1,43 @@
+/* feature_set.h — what a scene needs, and nothing more.
+ *
+ * A scene resolves to a feature set: dimension, precision, formulation and
+ * rotation mode, kernel, constraints, bodies, time-stepping criteria.  The
+ * OpenCL program is built from it (the -D options below: kernels, kernel
+ * arguments and buffers of unused features do not exist in that program);
+ * the native backend selects its code paths from the same set, and the field
+ * registry (fields.h) allocates only the buffers it names.
+ */
+#ifndef SPH_FEATURE_SET_H
+#define SPH_FEATURE_SET_H
+
+#include "particles.h"
+#include "scene.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+
+typedef struct {
+    int dim;
+    bool double_precision;
+    sph_formulation formulation;
+    sph_rotation rotation;
+    sph_kernel kernel;
+    sph_stepping stepping;
+    bool has_clamp;
+    int nbodies;
+} sph_features;
+
+void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,
+                             bool double_precision, sph_features *out);
+
+/* OpenCL build options of the feature set plus the device-dependent layout
+ * choices (work-group sizes, neighbour-array layout). */
+void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
+                                bool nbr_row_major, char *buf, size_t len);
+
+/* The scalar parameter block `prm` of the kernels (device/sph_prelude.h,
+ * PRM_*), in double; backends convert to their precision. */
+sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
+                           const sph_features *f, double *prm, sph_error *err);
+
+#endif

@@ -1,0 +1,53 @@
+/* fields.h — the registry of per-particle fields.
+ *
+ * One table says which per-particle arrays exist for a feature set, their
+ * element type and component count.  Backends allocate from it (and only what
+ * is present), the rebuild permutes every present field into the cell order,
+ * output and tests download by field, and summary.json reports the bytes of
+ * each buffer.  A field's name is also the name of the kernel parameter it is
+ * bound to (see opencl_runtime.c).
+ */
+#ifndef SPH_FIELDS_H
+#define SPH_FIELDS_H
+
+#include "feature_set.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+
+typedef enum {
+    FIELD_POS,        /* position x */
+    FIELD_VEL,        /* velocity v */
+    FIELD_RHO,        /* density */
+    FIELD_DRHO,       /* density rate from the continuity equation */
+    FIELD_MASS,       /* mass (constant) */
+    FIELD_VOL,        /* volume m/rho, refreshed at each rebuild */
+    FIELD_ACC_DISS,   /* Riemann dissipation acceleration (lags one substep) */
+    FIELD_ACC_SHEAR,  /* accumulated shear acceleration a^s */
+    FIELD_DACC_SHEAR, /* pending increment da^s (averaged rotation only) */
+    FIELD_SPIN,       /* spin components (averaged rotation only) */
+    FIELD_TAU,        /* deviatoric (shear) stress, symmetric */
+    FIELD_BMAT,       /* kernel-gradient correction matrix B, symmetric */
+    FIELD_ID,         /* particle id: its index in the initial set */
+    FIELD_BODY,       /* body index (scenes with several bodies) */
+    FIELD_POS0,       /* initial position of fixed particles (clamp) */
+    FIELD_FIXED,      /* 1 for fixed particles (clamp) */
+    FIELD_COUNT
+} sph_field;
+
+typedef enum { FIELD_TYPE_REAL, FIELD_TYPE_INT32, FIELD_TYPE_U8 } sph_field_type;
+
+typedef struct {
+    const char *name;
+    sph_field_type type;
+    int components;
+    bool present;
+} sph_field_info;
+
+/* Fill the registry for a feature set. */
+void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]);
+
+/* Bytes of one element of a field of this type at the given precision. */
+size_t sph_field_element_size(sph_field_type type, bool double_precision);
+
+#endif

@@ -1,0 +1,185 @@
+/* main.c — the sphsolid command line.
+ *
+ *   sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]
+ *                      [--precision double|single] [--out DIR] [--quiet]
+ *   sphsolid devices
+ *
+ * Exit status: 0 success, 2 bad input (scene file, flags), 1 runtime failure.
+ */
+#include "opencl_runtime.h"
+#include "run.h"
+
+#include <errno.h>
+#include <math.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void usage(FILE *f) {
+    fprintf(f,
+            "usage: sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]\n"
+            "                          [--precision double|single] [--out DIR] [--quiet]\n"
+            "       sphsolid devices\n"
+            "       sphsolid --version\n"
+            "\n"
+            "run       simulate a scene file (see docs/scene-format.md); results go to DIR\n"
+            "          (default: runs/<scene directory name>): timeseries.csv, summary.json\n"
+            "--set     override any scene value, e.g. --set resolution.ratio=30\n"
+            "--backend opencl: an OpenCL device (--device N, see `sphsolid devices`);\n"
+            "          cpu: the native backend.  Default: an OpenCL GPU if present, else cpu\n"
+            "exit status: 0 success, 2 bad input, 1 runtime failure\n");
+}
+
+static int input_error(const char *fmt, const char *arg) {
+    fprintf(stderr, "sphsolid: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n(run `sphsolid --help` for usage)\n");
+    return SPH_ERR_INPUT;
+}
+
+/* Default output directory: runs/<name of the scene's directory or stem>. */
+static void default_out_dir(const char *scene, char *buf, size_t len) {
+    char tmp[PATH_MAX];
+    snprintf(tmp, sizeof tmp, "%s", scene);
+    char *slash = strrchr(tmp, '/');
+    const char *name = tmp;
+    if (slash) {
+        *slash = '\0';
+        char *parent = strrchr(tmp, '/');
+        name = parent ? parent + 1 : tmp;
+        if (strcmp(name, ".") == 0 || *name == '\0') name = slash + 1;
+    } else {
+        char *dot = strrchr(tmp, '.');
+        if (dot) *dot = '\0';
+    }
+    sph_format(buf, len, "runs/%s", name);
+}
+
+static int cmd_run(int argc, char **argv) {
+    sph_run_options opt = {0};
+    opt.backend.kind = SPH_BACKEND_AUTO;
+    opt.backend.device_index = -1;
+    opt.double_precision = true;
+    const char **overrides = calloc((size_t)argc, sizeof(char *));
+    if (!overrides) return SPH_ERR_RUNTIME;
+    int noverrides = 0;
+    const char *out_dir = NULL;
+    for (int k = 0; k < argc; ++k) {
+        const char *a = argv[k];
+        const char *value = k + 1 < argc ? argv[k + 1] : NULL;
+        if (strcmp(a, "--set") == 0 || strcmp(a, "--backend") == 0 || strcmp(a, "--device") == 0 ||
+            strcmp(a, "--precision") == 0 || strcmp(a, "--out") == 0) {
+            if (!value) {
+                free(overrides);
+                return input_error("%s needs a value", a);
+            }
+            ++k;
+        }
+        if (strcmp(a, "--set") == 0) {
+            overrides[noverrides++] = value;
+        } else if (strcmp(a, "--backend") == 0) {
+            if (strcmp(value, "cpu") == 0)
+                opt.backend.kind = SPH_BACKEND_CPU;
+            else if (strcmp(value, "opencl") == 0)
+                opt.backend.kind = SPH_BACKEND_OPENCL;
+            else {
+                free(overrides);
+                return input_error("--backend %s: expected opencl or cpu", value);
+            }
+        } else if (strcmp(a, "--device") == 0) {
+            char *end;
+            errno = 0;
+            const long d = strtol(value, &end, 10);
+            if (errno || *end || d < 0 || d > 1000) {
+                free(overrides);
+                return input_error("--device %s: expected a device number (see `sphsolid devices`)",
+                                   value);
+            }
+            opt.backend.device_index = (int)d;
+            if (opt.backend.kind == SPH_BACKEND_AUTO) opt.backend.kind = SPH_BACKEND_OPENCL;
+        } else if (strcmp(a, "--precision") == 0) {
+            if (strcmp(value, "double") == 0)
+                opt.double_precision = true;
+            else if (strcmp(value, "single") == 0)
+                opt.double_precision = false;
+            else {
+                free(overrides);
+                return input_error("--precision %s: expected double or single", value);
+            }
+        } else if (strcmp(a, "--out") == 0) {
+            out_dir = value;
+        } else if (strcmp(a, "--quiet") == 0) {
+            opt.quiet = true;
+        } else if (a[0] == '-') {
+            free(overrides);
+            return input_error("unknown option %s", a);
+        } else if (!opt.scene_path) {
+            opt.scene_path = a;
+        } else {
+            free(overrides);
+            return input_error("unexpected argument %s (one scene per run)", a);
+        }
+    }
+    if (!opt.scene_path) {
+        free(overrides);
+        return input_error("%s", "run needs a scene file");
+    }
+    if (opt.backend.kind == SPH_BACKEND_CPU && opt.backend.device_index >= 0) {
+        free(overrides);
+        return input_error("%s", "--device selects an OpenCL device; it does not go with --backend cpu");
+    }
+    char default_dir[PATH_MAX];
+    if (!out_dir) {
+        default_out_dir(opt.scene_path, default_dir, sizeof default_dir);
+        out_dir = default_dir;
+    }
+    opt.overrides = overrides;
+    opt.noverrides = noverrides;
+    opt.out_dir = out_dir;
+    opt.backend.quiet = opt.quiet;
+
+    sph_simulation sim;
+    sph_error err = {0};
+    sph_status st = sph_simulation_open(&sim, &opt, &err);
+    if (!st) st = sph_simulation_run(&sim, &err);
+    if (st) {
+        fprintf(stderr, "sphsolid: %s\n", err.msg);
+    } else if (!opt.quiet) {
+        fprintf(stderr,
+                "sphsolid: done: %d particles, %ld acoustic / %ld advection steps, %.2f s wall "
+                "(%.3g M particle-substeps/s); results in %s\n",
+                sim.particles.n, sim.stats.acoustic_steps, sim.stats.advection_steps,
+                sim.stats.wall_seconds, sim.stats.particle_substeps_per_second / 1e6, out_dir);
+        if (isfinite(sim.metrics.first_period))
+            fprintf(stderr, "sphsolid: first period %.5f s\n", sim.metrics.first_period);
+        if (isfinite(sim.metrics.max_angular_momentum_error) && sim.particles.fixed_count == 0)
+            fprintf(stderr, "sphsolid: max angular-momentum error %.3f %%\n",
+                    100.0 * sim.metrics.max_angular_momentum_error);
+    }
+    sph_simulation_close(&sim);
+    free(overrides);
+    return (int)st;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        usage(stderr);
+        return SPH_ERR_INPUT;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+        strcmp(argv[1], "help") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("sphsolid %s\n", SPHSOLID_VERSION);
+        return 0;
+    }
+    if (strcmp(argv[1], "devices") == 0) {
+        sph_opencl_print_devices(stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
+    return input_error("unknown command '%s'", argv[1]);
+}

@@ -1,0 +1,116 @@
+#include "output.h"
+
+#include <errno.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static sph_status make_dirs(const char *dir, sph_error *err) {
+    char path[1024];
+    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
+        return sph_fail(err, SPH_ERR_INPUT, "--out %s: path too long", dir);
+    for (char *p = path + 1; *p; ++p) {
+        if (*p != '/') continue;
+        *p = '\0';
+        if (mkdir(path, 0777) != 0 && errno != EEXIST)
+            return sph_fail(err, SPH_ERR_RUNTIME, "cannot create output directory %s: %s", path,
+                            strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(path, 0777) != 0 && errno != EEXIST)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot create output directory %s: %s", path,
+                        strerror(errno));
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode))
+        return sph_fail(err, SPH_ERR_RUNTIME, "output path %s is not a directory", path);
+    return SPH_OK;
+}
+
+static const char *axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
+
+sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *scene,
+                           sph_error *err) {
+    memset(out, 0, sizeof *out);
+    sph_status st = make_dirs(dir, err);
+    if (st) return st;
+    snprintf(out->dir, sizeof out->dir, "%s", dir);
+    snprintf(out->csv_final, sizeof out->csv_final, "%s/timeseries.csv", dir);
+    snprintf(out->csv_partial, sizeof out->csv_partial, "%s/timeseries.csv.partial", dir);
+    char old_summary[1100];
+    snprintf(old_summary, sizeof old_summary, "%s/summary.json", dir);
+    if ((unlink(out->csv_final) != 0 && errno != ENOENT) ||
+        (unlink(old_summary) != 0 && errno != ENOENT))
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot remove the previous results in %s: %s", dir,
+                        strerror(errno));
+    out->csv = fopen(out->csv_partial, "w");
+    if (!out->csv)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
+                        strerror(errno));
+    out->dim = scene->dim;
+    out->nobservers = scene->nobservers;
+    fprintf(out->csv, "time,kinetic_energy,strain_energy,total_energy");
+    for (int a = 0; a < scene->dim; ++a) fprintf(out->csv, ",momentum_%s", axis_name(a));
+    if (scene->dim == 2)
+        fprintf(out->csv, ",angular_momentum");
+    else
+        fprintf(out->csv, ",angular_momentum_x,angular_momentum_y,angular_momentum_z");
+    for (int o = 0; o < scene->nobservers; ++o)
+        for (int a = 0; a < scene->dim; ++a)
+            fprintf(out->csv, ",%s_%s", scene->observers[o].name, axis_name(a));
+    fputc('\n', out->csv);
+    if (ferror(out->csv))
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
+                        strerror(errno));
+    return SPH_OK;
+}
+
+sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
+                          const double *observers, sph_error *err) {
+    FILE *f = out->csv;
+    fprintf(f, "%.9g,%.12g,%.12g,%.12g", t, d->kinetic, d->strain, d->kinetic + d->strain);
+    for (int a = 0; a < out->dim; ++a) fprintf(f, ",%.12g", d->momentum[a]);
+    if (out->dim == 2)
+        fprintf(f, ",%.12g", d->angular[2]);
+    else
+        fprintf(f, ",%.12g,%.12g,%.12g", d->angular[0], d->angular[1], d->angular[2]);
+    for (int k = 0; k < out->nobservers * out->dim; ++k) fprintf(f, ",%.12g", observers[k]);
+    fputc('\n', f);
+    if (ferror(f) || fflush(f) != 0)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
+                        strerror(errno));
+    return SPH_OK;
+}
+
+sph_status sph_output_close(sph_output *out, bool success, sph_error *err) {
+    if (!out->csv) return SPH_OK;
+    const int failed = ferror(out->csv) | fclose(out->csv);
+    out->csv = NULL;
+    if (!success) return SPH_OK;
+    if (failed)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
+                        strerror(errno));
+    if (rename(out->csv_partial, out->csv_final) != 0)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s to %s: %s", out->csv_partial,
+                        out->csv_final, strerror(errno));
+    return SPH_OK;
+}
+
+sph_status sph_output_write_json(const char *dir, const char *name, json_object *obj,
+                                 sph_error *err) {
+    char final_path[1100], partial[1200];
+    snprintf(final_path, sizeof final_path, "%s/%s", dir, name);
+    snprintf(partial, sizeof partial, "%s.partial", final_path);
+    FILE *f = fopen(partial, "w");
+    if (!f) return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial, strerror(errno));
+    const char *text = json_object_to_json_string_ext(obj, JSON_C_TO_STRING_PRETTY |
+                                                               JSON_C_TO_STRING_NOSLASHESCAPE);
+    const int bad = fputs(text, f) < 0 || fputc('\n', f) == EOF;
+    const int closed = fclose(f);
+    if (bad || closed != 0) {
+        unlink(partial);
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial, strerror(errno));
+    }
+    if (rename(partial, final_path) != 0)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s: %s", partial, strerror(errno));
+    return SPH_OK;
+}

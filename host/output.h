@@ -1,0 +1,37 @@
+/* output.h — the files of a run directory.
+ *
+ * Every file is written under a temporary name and renamed only when it is
+ * complete, and a new run first removes the previous run's results from the
+ * directory: an interrupted or failed run never leaves a file that looks like
+ * a valid result (timeseries.csv.partial stays for inspection).  Write errors
+ * (disk full, permissions) are runtime errors naming the file.
+ */
+#ifndef SPH_OUTPUT_H
+#define SPH_OUTPUT_H
+
+#include "backend.h"
+#include "scene.h"
+
+#include <json-c/json.h>
+#include <stdbool.h>
+#include <stdio.h>
+
+typedef struct {
+    char dir[1024];
+    char csv_partial[1100], csv_final[1100];
+    FILE *csv;
+    int dim, nobservers;
+} sph_output;
+
+/* Create the directory (with parents), clear old results, start the CSV. */
+sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *scene,
+                           sph_error *err);
+sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
+                          const double *observers, sph_error *err);
+/* Close the CSV; on success rename it to timeseries.csv. */
+sph_status sph_output_close(sph_output *out, bool success, sph_error *err);
+/* Write `name` in `dir` through `name.partial` and rename. */
+sph_status sph_output_write_json(const char *dir, const char *name, json_object *obj,
+                                 sph_error *err);
+
+#endif

@@ -1,0 +1,40 @@
+/* particles.h — the initial particle set of a scene, on the host.
+ *
+ * Lattice placement as in the reference code: particles sit at the centres
+ * of a dp-grid anchored at the lattice origin (default: the lower corner of
+ * the union of all bodies' bounding boxes); a grid point belongs to the first
+ * body (in scene order) whose shape contains it.  Particles are numbered body
+ * by body, then z, y, x with x running fastest; `id` is that number and stays
+ * with the particle when the backends reorder particles by cell.
+ *
+ * Storage is structure-of-arrays in double precision, component-major:
+ * component c of particle i is at pos[c * n + i].
+ */
+#ifndef SPH_PARTICLES_H
+#define SPH_PARTICLES_H
+
+#include "scene.h"
+
+#include <stdint.h>
+
+typedef struct {
+    int n, dim;
+    double *pos;    /* [dim * n] */
+    double *vel;    /* [dim * n] */
+    double *mass;   /* [n]  rho0 dp^d */
+    double *rho;    /* [n]  rho0 */
+    int32_t *id;    /* [n] */
+    uint8_t *body;  /* [n]  index into scene->bodies */
+    uint8_t *fixed; /* [n]  1 inside a fixed constraint region; NULL if the scene has none */
+    int body_count[SPH_SCENE_MAX_BODIES];
+    int fixed_count;
+} sph_particles;
+
+sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sph_error *err);
+void sph_particles_free(sph_particles *p);
+
+/* The initial velocity of a body's velocity field at point x. */
+void sph_velocity_field_eval(const sph_scene *scene, const sph_body *body, const double x[3],
+                             double v[3]);
+
+#endif

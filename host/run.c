@@ -1,0 +1,219 @@
+#include "run.h"
+
+#include "output.h"
+
+#include <json-c/json.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#ifndef SPHSOLID_COMMIT
+#    define SPHSOLID_COMMIT ""
+#endif
+
+static double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, sph_error *err) {
+    memset(sim, 0, sizeof *sim);
+    sim->options = *opt;
+    const double t0 = now_seconds();
+    sph_status st =
+        sph_scene_load(&sim->scene, opt->scene_path, opt->overrides, opt->noverrides, err);
+    if (st) return st;
+    sim->scene_loaded = true;
+    st = sph_particles_generate(&sim->scene, &sim->particles, err);
+    if (st) return st;
+    sph_features_from_scene(&sim->scene, &sim->particles, opt->double_precision, &sim->features);
+    st = sph_params_fill(&sim->scene, &sim->particles, &sim->features, sim->prm, err);
+    if (!st) st = sph_observers_init(&sim->scene, &sim->particles, sim->prm, &sim->observers, err);
+    if (!st)
+        st = sph_timeseries_init(&sim->series, sim->scene.dim, sim->scene.nobservers, err);
+    if (st) return st;
+    st = sph_backend_create(&opt->backend, &sim->features, sim->prm, sim->particles.n,
+                            &sim->backend, err);
+    if (st) return st;
+    if (!opt->quiet)
+        fprintf(stderr, "sphsolid: backend %s on %s: %s\n", sim->backend->kind_name,
+                sim->backend->device_name, sim->backend->choice_reason);
+    sim->setup_seconds = now_seconds() - t0;
+    return SPH_OK;
+}
+
+static json_object *num(double x) {
+    /* JSON has no NaN: unknown values are null */
+    return isfinite(x) ? json_object_new_double(x) : NULL;
+}
+
+static json_object *vector_json(const double *v, int dim) {
+    json_object *a = json_object_new_array();
+    for (int k = 0; k < dim; ++k) json_object_array_add(a, json_object_new_double(v[k]));
+    return a;
+}
+
+static json_object *summary_json(const sph_simulation *sim) {
+    const sph_scene *sc = &sim->scene;
+    const sph_backend *be = sim->backend;
+    json_object *root = json_object_new_object();
+    json_object_object_add(root, "sphsolid_version", json_object_new_string(SPHSOLID_VERSION));
+    json_object_object_add(root, "commit", json_object_new_string(SPHSOLID_COMMIT));
+    json_object_object_add(root, "status", json_object_new_string("completed"));
+
+    json_object *scene = json_object_new_object();
+    json_object_object_add(scene, "path", json_object_new_string(sc->path));
+    json_object_object_add(scene, "title", json_object_new_string(sc->title));
+    json_object *ovr = json_object_new_array();
+    for (int k = 0; k < sim->options.noverrides; ++k)
+        json_object_array_add(ovr, json_object_new_string(sim->options.overrides[k]));
+    json_object_object_add(scene, "overrides", ovr);
+    json_object_object_add(scene, "resolved_text",
+                           json_object_new_string(sc->resolved_text ? sc->resolved_text : ""));
+    json_object_object_add(root, "scene", scene);
+
+    json_object *res = json_object_new_object();
+    json_object_object_add(res, "dimension", json_object_new_int(sc->dim));
+    json_object_object_add(res, "dp", json_object_new_double(sc->dp));
+    json_object_object_add(res, "smoothing_length", json_object_new_double(sim->prm[PRM_H]));
+    json_object_object_add(res, "cutoff", json_object_new_double(sim->prm[PRM_CUTOFF]));
+    json_object_object_add(res, "xi_e", json_object_new_double(sc->xi_e));
+    json_object_object_add(res, "stepping", json_object_new_string(sph_stepping_name(sc->stepping)));
+    json_object_object_add(res, "cfl_advection", json_object_new_double(sc->cfl_advection));
+    json_object_object_add(res, "cfl_acoustic", json_object_new_double(sc->cfl_acoustic));
+    json_object_object_add(res, "reference_speed", num(sim->stats.reference_speed));
+    json_object_object_add(res, "acceleration_criterion",
+                           json_object_new_boolean(sc->acceleration_criterion));
+    json_object_object_add(res, "riemann_limiter", json_object_new_double(sc->riemann_limiter_slope));
+    json_object_object_add(res, "end_time", json_object_new_double(sc->end_time));
+    json_object_object_add(res, "output_interval", json_object_new_double(sc->output_interval));
+    json_object_object_add(res, "gravity", vector_json(sc->gravity, sc->dim));
+    json_object *mats = json_object_new_array();
+    for (int m = 0; m < sc->nmaterials; ++m) {
+        json_object *o = json_object_new_object();
+        const sph_material *mt = &sc->materials[m];
+        json_object_object_add(o, "name", json_object_new_string(mt->name));
+        json_object_object_add(o, "density", json_object_new_double(mt->density));
+        json_object_object_add(o, "youngs_modulus", json_object_new_double(mt->youngs_modulus));
+        json_object_object_add(o, "poisson_ratio", json_object_new_double(mt->poisson_ratio));
+        json_object_object_add(o, "sound_speed", json_object_new_double(mt->sound_speed));
+        json_object_object_add(o, "shear_modulus", json_object_new_double(mt->shear_modulus));
+        json_object_object_add(o, "bulk_modulus", json_object_new_double(mt->bulk_modulus));
+        json_object_array_add(mats, o);
+    }
+    json_object_object_add(res, "materials", mats);
+    json_object *bodies = json_object_new_array();
+    for (int b = 0; b < sc->nbodies; ++b) {
+        json_object *o = json_object_new_object();
+        json_object_object_add(o, "name", json_object_new_string(sc->bodies[b].name));
+        json_object_object_add(o, "particles", json_object_new_int(sim->particles.body_count[b]));
+        json_object_array_add(bodies, o);
+    }
+    json_object_object_add(res, "bodies", bodies);
+    json_object_object_add(res, "fixed_particles", json_object_new_int(sim->particles.fixed_count));
+    json_object_object_add(root, "resolved", res);
+
+    json_object_object_add(root, "formulation",
+                           json_object_new_string(sph_formulation_name(sc->formulation)));
+    json_object_object_add(root, "rotation", json_object_new_string(sph_rotation_name(sc->rotation)));
+    json_object_object_add(root, "kernel", json_object_new_string(sph_kernel_name(sc->kernel)));
+    json_object_object_add(root, "backend", json_object_new_string(be->kind_name));
+    json_object_object_add(root, "device", json_object_new_string(be->device_name));
+    json_object_object_add(root, "backend_choice", json_object_new_string(be->choice_reason));
+    json_object_object_add(root, "precision",
+                           json_object_new_string(sim->features.double_precision ? "double" : "single"));
+    json_object_object_add(root, "build_options", json_object_new_string(be->build_options));
+    json_object *mem = json_object_new_object();
+    json_object_object_add(mem, "total_bytes", json_object_new_int64((int64_t)sph_backend_total_bytes(be)));
+    json_object *bufs = json_object_new_array();
+    for (int k = 0; k < be->nbuffers; ++k) {
+        json_object *o = json_object_new_object();
+        json_object_object_add(o, "name", json_object_new_string(be->buffers[k].name));
+        json_object_object_add(o, "bytes", json_object_new_int64((int64_t)be->buffers[k].bytes));
+        json_object_array_add(bufs, o);
+    }
+    json_object_object_add(mem, "buffers", bufs);
+    json_object_object_add(root, "memory", mem);
+
+    json_object_object_add(root, "particle_count", json_object_new_int(sim->particles.n));
+    json_object_object_add(root, "acoustic_steps", json_object_new_int64(sim->stats.acoustic_steps));
+    json_object_object_add(root, "advection_steps", json_object_new_int64(sim->stats.advection_steps));
+    json_object_object_add(root, "simulated_time", json_object_new_double(sim->stats.end_time));
+    json_object_object_add(root, "wall_time_s", json_object_new_double(sim->stats.wall_seconds));
+    json_object_object_add(root, "setup_time_s", json_object_new_double(sim->setup_seconds));
+    json_object_object_add(root, "particle_substeps_per_second",
+                           json_object_new_double(sim->stats.particle_substeps_per_second));
+
+    const sph_metrics *m = &sim->metrics;
+    json_object *metrics = json_object_new_object();
+    json_object_object_add(metrics, "initial_kinetic_energy", num(m->initial_kinetic_energy));
+    json_object_object_add(metrics, "final_total_energy_ratio", num(m->final_total_energy_ratio));
+    json_object_object_add(metrics, "max_linear_momentum_drift", num(m->max_linear_momentum_drift));
+    json_object_object_add(metrics, "max_angular_momentum_error", num(m->max_angular_momentum_error));
+    if (sc->period_observer >= 0) {
+        json_object_object_add(metrics, "first_period", num(m->first_period));
+        json_object_object_add(metrics, "max_observer_displacement", num(m->max_observer_displacement));
+    }
+    json_object_object_add(root, "metrics", metrics);
+    return root;
+}
+
+sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
+    sph_output out;
+    sph_output *outp = NULL;
+    sph_status st = SPH_OK;
+    if (sim->options.out_dir) {
+        st = sph_output_open(&out, sim->options.out_dir, &sim->scene, err);
+        if (st) return st;
+        outp = &out;
+    }
+    const sph_solver_args args = {
+        .scene = &sim->scene,
+        .backend = sim->backend,
+        .initial = &sim->particles,
+        .prm = sim->prm,
+        .observers = &sim->observers,
+        .output = outp,
+        .quiet = sim->options.quiet,
+        .max_acoustic_steps = sim->options.max_acoustic_steps,
+    };
+    st = sph_solve(&args, &sim->series, &sim->stats, err);
+    /* scale for the linear-momentum drift: total |momentum| magnitude */
+    double scale = 0.0;
+    for (int i = 0; i < sim->particles.n; ++i) {
+        double v2 = 0.0;
+        for (int d = 0; d < sim->scene.dim; ++d) {
+            const double v = sim->particles.vel[(size_t)d * sim->particles.n + i];
+            v2 += v * v;
+        }
+        scale += sim->particles.mass[i] * sqrt(v2);
+    }
+    sph_metrics_compute(&sim->series, sim->scene.period_observer, sim->scene.period_axis, scale,
+                        &sim->metrics);
+    if (outp) {
+        sph_error close_err;
+        const sph_status cst = sph_output_close(outp, st == SPH_OK, &close_err);
+        if (!st && cst) {
+            *err = close_err;
+            st = cst;
+        }
+        if (!st) {
+            json_object *summary = summary_json(sim);
+            st = sph_output_write_json(sim->options.out_dir, "summary.json", summary, err);
+            json_object_put(summary);
+        }
+    }
+    return st;
+}
+
+void sph_simulation_close(sph_simulation *sim) {
+    sph_backend_destroy(sim->backend);
+    sph_observers_free(&sim->observers);
+    sph_timeseries_free(&sim->series);
+    sph_particles_free(&sim->particles);
+    if (sim->scene_loaded) sph_scene_free(&sim->scene);
+    memset(sim, 0, sizeof *sim);
+}

@@ -1,0 +1,1377 @@
+/* scene.c — load, override and validate a scene file (docs/scene-format.md).
+ *
+ * Three stages, all on one libconfig tree:
+ *   1. parse the file (libconfig gives every setting its source line);
+ *   2. apply the `--set key=value` overrides to the tree, marking every
+ *      setting they create through its libconfig hook so that later messages
+ *      can name the override instead of a file line;
+ *   3. walk the tree against the schema below, filling sph_scene.  Every
+ *      group's members are checked against the keys valid there, so a typo is
+ *      an error (with the nearest valid name) rather than a silently ignored
+ *      setting that leaves a default in force.
+ * The first problem found is reported; nothing is printed.
+ */
+#include "scene.h"
+
+#include <libconfig.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* ------------------------------------------------------------------------ */
+/* loader state and error reporting                                          */
+/* ------------------------------------------------------------------------ */
+
+typedef struct {
+    const char *file; /* the scene path, as given */
+    sph_error *err;
+    sph_scene *scene;
+    int nnamed_shapes; /* shapes [0, nnamed_shapes) are the named members of `shapes` */
+    /* the definition of every shape and its `parts` setting, for messages */
+    const config_setting_t *shape_def[SPH_SCENE_MAX_SHAPES];
+    const config_setting_t *shape_parts[SPH_SCENE_MAX_SHAPES];
+} loader;
+
+/* An inline table of names and its length: KEYS("a", "b") -> (names, 2). */
+#define KEYS(...)                                                                                  \
+    (const char *const[]){__VA_ARGS__},                                                            \
+        (int)(sizeof((const char *const[]){__VA_ARGS__}) / sizeof(const char *))
+
+static const char *type_name(int type) {
+    switch (type) {
+    case CONFIG_TYPE_GROUP:
+        return "a group { ... }";
+    case CONFIG_TYPE_INT:
+        return "an integer";
+    case CONFIG_TYPE_INT64:
+        return "a 64-bit integer";
+    case CONFIG_TYPE_FLOAT:
+        return "a number";
+    case CONFIG_TYPE_STRING:
+        return "a string";
+    case CONFIG_TYPE_BOOL:
+        return "a boolean";
+    case CONFIG_TYPE_ARRAY:
+        return "an array [ ... ]";
+    case CONFIG_TYPE_LIST:
+        return "a list ( ... )";
+    default:
+        return "nothing";
+    }
+}
+
+/* The override ("key=value") that created `s` or one of its ancestors, else
+ * NULL: the value then came from the file. */
+static const char *override_of(const config_setting_t *s) {
+    for (; s; s = s->parent)
+        if (s->hook) return (const char *)s->hook;
+    return NULL;
+}
+
+static bool plain_name(const char *s) {
+    if (!*s) return false;
+    for (; *s; s++)
+        if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') ||
+              *s == '_' || *s == '-'))
+            return false;
+    return true;
+}
+
+/* The `name` member of a list element, if it is a string that no other
+ * element of the list shares; path components then read `bodies.plate`
+ * (which --set also accepts) rather than `bodies.[0]`. */
+static const char *unique_element_name(const config_setting_t *list, int idx) {
+    const config_setting_t *e = config_setting_get_elem(list, (unsigned)idx);
+    const char *name = NULL;
+    if (!e || !config_setting_is_group(e) || !config_setting_lookup_string(e, "name", &name) ||
+        !plain_name(name))
+        return NULL;
+    int n = config_setting_length(list);
+    for (int i = 0; i < n; i++) {
+        const char *other = NULL;
+        const config_setting_t *o = config_setting_get_elem(list, (unsigned)i);
+        if (i != idx && config_setting_is_group(o) &&
+            config_setting_lookup_string(o, "name", &other) && strcmp(other, name) == 0)
+            return NULL;
+    }
+    return name;
+}
+
+/* Full key path of a setting: `materials.rubber.poisson_ratio`,
+ * `bodies.plate.constraints.[0].region`, `shapes.beam.lower.[1]`. */
+static void setting_path(const config_setting_t *s, char *buf, size_t size) {
+    buf[0] = '\0';
+    if (!s || !s->parent) return;
+    setting_path(s->parent, buf, size);
+    size_t len = strlen(buf);
+    const char *sep = len > 0 ? "." : "";
+    const config_setting_t *p = s->parent;
+    if (config_setting_is_group(p) && s->name) {
+        snprintf(buf + len, size - len, "%s%s", sep, s->name);
+    } else {
+        int idx = config_setting_index(s);
+        const char *name = config_setting_is_list(p) ? unique_element_name(p, idx) : NULL;
+        if (name)
+            snprintf(buf + len, size - len, "%s%s", sep, name);
+        else
+            snprintf(buf + len, size - len, "%s[%d]", sep, idx);
+    }
+}
+
+/* Report a problem with setting `s` (or with its missing member `key`, when
+ * key is not NULL):  "<file>:<line>: <path>: <what>", or
+ * "--set <key>=<value>: <path>: <what>" for a value from an override. */
+__attribute__((format(printf, 4, 5))) static sph_status
+fail_at(loader *L, const config_setting_t *s, const char *key, const char *fmt, ...) {
+    char what[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+
+    char path[768];
+    setting_path(s, path, sizeof path);
+    if (key) {
+        size_t len = strlen(path);
+        snprintf(path + len, sizeof path - len, "%s%s", len > 0 ? "." : "", key);
+    }
+    const char *ov = override_of(s);
+    unsigned line = s ? config_setting_source_line(s) : 0;
+    if (ov) return sph_fail(L->err, SPH_ERR_INPUT, "--set %s: %s: %s", ov, path, what);
+    if (line > 0)
+        return sph_fail(L->err, SPH_ERR_INPUT, "%s:%u: %s: %s", L->file, line, path, what);
+    /* the root group has no line of its own */
+    return sph_fail(L->err, SPH_ERR_INPUT, "%s: %s: %s", L->file, path, what);
+}
+
+/* Optimal-string-alignment edit distance (adjacent transpositions count
+ * one), for "did you mean" suggestions. */
+static int edit_distance(const char *a, const char *b) {
+    size_t la = strlen(a), lb = strlen(b);
+    if (la > 63 || lb > 63) return 99;
+    int d[64][64];
+    for (size_t i = 0; i <= la; i++) d[i][0] = (int)i;
+    for (size_t j = 0; j <= lb; j++) d[0][j] = (int)j;
+    for (size_t i = 1; i <= la; i++) {
+        for (size_t j = 1; j <= lb; j++) {
+            int cost = a[i - 1] == b[j - 1] ? 0 : 1;
+            int v = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < v) v = d[i][j - 1] + 1;
+            if (d[i - 1][j - 1] + cost < v) v = d[i - 1][j - 1] + cost;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
+                d[i - 2][j - 2] + 1 < v)
+                v = d[i - 2][j - 2] + 1;
+            d[i][j] = v;
+        }
+    }
+    return d[la][lb];
+}
+
+/* " (did you mean 'x'?)" when one candidate is close, else
+ * " (<what>: a, b, c)" listing them all. */
+static void suggest(const char *given, const char *const *names, int n, const char *what, char *buf,
+                    size_t size) {
+    int best = -1, best_d = 99;
+    for (int i = 0; i < n; i++) {
+        int d = edit_distance(given, names[i]);
+        if (d < best_d) best_d = d, best = i;
+    }
+    /* close: at most 3 edits, and fewer than half the candidate's length so
+     * that two-letter names are not "suggested" for anything */
+    if (best >= 0 && best_d <= 3 && 2 * best_d <= (int)strlen(names[best])) {
+        snprintf(buf, size, " (did you mean '%s'?)", names[best]);
+        return;
+    }
+    if (n == 0) {
+        snprintf(buf, size, " (none are defined)");
+        return;
+    }
+    size_t len = (size_t)snprintf(buf, size, " (%s: ", what);
+    for (int i = 0; i < n && len < size; i++)
+        len += (size_t)snprintf(buf + len, size - len, "%s%s", i ? ", " : "", names[i]);
+    if (len < size) snprintf(buf + len, size - len, ")");
+}
+
+/* ------------------------------------------------------------------------ */
+/* typed access                                                              */
+/* ------------------------------------------------------------------------ */
+
+/* Reject members of group g that are not in `keys`. */
+static sph_status check_keys(loader *L, const config_setting_t *g, const char *const *keys,
+                             int nkeys) {
+    int n = config_setting_length(g);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *m = config_setting_get_elem(g, (unsigned)i);
+        bool known = false;
+        for (int k = 0; k < nkeys && !known; k++) known = strcmp(m->name, keys[k]) == 0;
+        if (!known) {
+            char hint[512];
+            suggest(m->name, keys, nkeys, "valid keys here", hint, sizeof hint);
+            return fail_at(L, m, NULL, "unknown key '%s'%s", m->name, hint);
+        }
+    }
+    return SPH_OK;
+}
+
+/* The member `key` of g; an error if it is required and absent. */
+static sph_status get_member(loader *L, const config_setting_t *g, const char *key, bool required,
+                             const config_setting_t **out) {
+    *out = config_setting_get_member(g, key);
+    if (!*out && required) return fail_at(L, g, key, "missing required key");
+    return SPH_OK;
+}
+
+static sph_status as_float(loader *L, const config_setting_t *s, double *out) {
+    switch (config_setting_type(s)) {
+    case CONFIG_TYPE_INT:
+        *out = config_setting_get_int(s);
+        break;
+    case CONFIG_TYPE_INT64:
+        *out = (double)config_setting_get_int64(s);
+        break;
+    case CONFIG_TYPE_FLOAT:
+        *out = config_setting_get_float(s);
+        break;
+    default:
+        return fail_at(L, s, NULL, "expected a number, got %s", type_name(config_setting_type(s)));
+    }
+    if (!isfinite(*out)) return fail_at(L, s, NULL, "must be a finite number, got %g", *out);
+    return SPH_OK;
+}
+
+/* A float in a range: lo/hi are bounds (±INFINITY for none), *_open says
+ * whether the bound itself is excluded.  `def` is used when the key is
+ * absent and not required. */
+static sph_status get_float(loader *L, const config_setting_t *g, const char *key, bool required,
+                            double def, double lo, bool lo_open, double hi, bool hi_open,
+                            double *out) {
+    const config_setting_t *s;
+    sph_status st = get_member(L, g, key, required, &s);
+    if (st) return st;
+    if (!s) {
+        *out = def;
+        return SPH_OK;
+    }
+    double v = 0.0;
+    if ((st = as_float(L, s, &v))) return st;
+    bool ok = (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+    if (!ok) {
+        if (isinf(hi))
+            return fail_at(L, s, NULL, "must be %s %g, got %g", lo_open ? ">" : ">=", lo, v);
+        if (isinf(lo))
+            return fail_at(L, s, NULL, "must be %s %g, got %g", hi_open ? "<" : "<=", hi, v);
+        return fail_at(L, s, NULL, "must be in %c%g, %g%c, got %g", lo_open ? '(' : '[', lo, hi,
+                       hi_open ? ')' : ']', v);
+    }
+    *out = v;
+    return SPH_OK;
+}
+
+static sph_status get_int(loader *L, const config_setting_t *g, const char *key, bool required,
+                          int def, int *out, const config_setting_t **where) {
+    const config_setting_t *s;
+    sph_status st = get_member(L, g, key, required, &s);
+    if (st) return st;
+    *where = s;
+    if (!s) {
+        *out = def;
+        return SPH_OK;
+    }
+    if (config_setting_type(s) != CONFIG_TYPE_INT)
+        return fail_at(L, s, NULL, "expected an integer, got %s",
+                       type_name(config_setting_type(s)));
+    *out = config_setting_get_int(s);
+    return SPH_OK;
+}
+
+static sph_status get_bool(loader *L, const config_setting_t *g, const char *key, bool def,
+                           bool *out) {
+    const config_setting_t *s = config_setting_get_member(g, key);
+    if (!s) {
+        *out = def;
+        return SPH_OK;
+    }
+    if (config_setting_type(s) != CONFIG_TYPE_BOOL)
+        return fail_at(L, s, NULL, "expected a boolean (true or false), got %s",
+                       type_name(config_setting_type(s)));
+    *out = config_setting_get_bool(s) != 0;
+    return SPH_OK;
+}
+
+static sph_status as_string(loader *L, const config_setting_t *s, const char **out) {
+    if (config_setting_type(s) != CONFIG_TYPE_STRING)
+        return fail_at(L, s, NULL, "expected a string, got %s", type_name(config_setting_type(s)));
+    *out = config_setting_get_string(s);
+    return SPH_OK;
+}
+
+/* A string naming a table entry (material, shape, observer): not empty and
+ * short enough for SPH_NAME_LEN. */
+static sph_status get_name(loader *L, const config_setting_t *g, const char *key, const char **out,
+                           const config_setting_t **where) {
+    sph_status st = get_member(L, g, key, true, where);
+    if (st || (st = as_string(L, *where, out))) return st;
+    if (!**out) return fail_at(L, *where, NULL, "must not be empty");
+    if (strlen(*out) >= SPH_NAME_LEN)
+        return fail_at(L, *where, NULL, "names are limited to %d characters", SPH_NAME_LEN - 1);
+    return SPH_OK;
+}
+
+/* A string from a fixed set; *out is its index.  Absent and not required:
+ * *out = def. */
+static sph_status get_keyword(loader *L, const config_setting_t *g, const char *key, bool required,
+                              int def, const char *const *words, int nwords, int *out,
+                              const config_setting_t **where) {
+    const config_setting_t *s;
+    sph_status st = get_member(L, g, key, required, &s);
+    if (st) return st;
+    if (where) *where = s;
+    if (!s) {
+        *out = def;
+        return SPH_OK;
+    }
+    const char *v = "";
+    if ((st = as_string(L, s, &v))) return st;
+    for (int i = 0; i < nwords; i++) {
+        if (strcmp(v, words[i]) == 0) {
+            *out = i;
+            return SPH_OK;
+        }
+    }
+    char list[256];
+    size_t len = 0;
+    for (int i = 0; i < nwords && len < sizeof list; i++)
+        len += (size_t)snprintf(list + len, sizeof list - len, "%s\"%s\"", i ? ", " : "", words[i]);
+    return fail_at(L, s, NULL, "must be one of %s, got \"%s\"", list, v);
+}
+
+/* A vector of `len` numbers: an array [..] or a list (..) of ints or floats. */
+static sph_status as_vector(loader *L, const config_setting_t *s, int len, double out[3]) {
+    int type = config_setting_type(s);
+    if (type != CONFIG_TYPE_ARRAY && type != CONFIG_TYPE_LIST)
+        return fail_at(L, s, NULL, "expected a vector of %d numbers [ ... ], got %s", len,
+                       type_name(type));
+    int n = config_setting_length(s);
+    if (n != len)
+        return fail_at(L, s, NULL, "expected a vector of %d numbers, got %d element%s", len, n,
+                       n == 1 ? "" : "s");
+    for (int i = 0; i < n; i++) {
+        sph_status st = as_float(L, config_setting_get_elem(s, (unsigned)i), &out[i]);
+        if (st) return st;
+    }
+    for (int i = n; i < 3; i++) out[i] = 0.0;
+    return SPH_OK;
+}
+
+static sph_status get_vector(loader *L, const config_setting_t *g, const char *key, bool required,
+                             int len, double out[3], const config_setting_t **where) {
+    const config_setting_t *s;
+    sph_status st = get_member(L, g, key, required, &s);
+    if (st) return st;
+    if (where) *where = s;
+    if (!s) return SPH_OK; /* caller's default stays */
+    return as_vector(L, s, len, out);
+}
+
+static sph_status get_group(loader *L, const config_setting_t *g, const char *key, bool required,
+                            const config_setting_t **out) {
+    sph_status st = get_member(L, g, key, required, out);
+    if (st || !*out) return st;
+    if (!config_setting_is_group(*out))
+        return fail_at(L, *out, NULL, "expected a group { ... }, got %s",
+                       type_name(config_setting_type(*out)));
+    return SPH_OK;
+}
+
+static sph_status get_list(loader *L, const config_setting_t *g, const char *key, bool required,
+                           const config_setting_t **out) {
+    sph_status st = get_member(L, g, key, required, out);
+    if (st || !*out) return st;
+    if (!config_setting_is_list(*out))
+        return fail_at(L, *out, NULL, "expected a list ( { ... }, ... ), got %s",
+                       type_name(config_setting_type(*out)));
+    return SPH_OK;
+}
+
+static const char *const AXES[] = {"x", "y", "z"};
+
+static sph_status get_axis(loader *L, const config_setting_t *g, const char *key, bool required,
+                           int def, int *out) {
+    const config_setting_t *s;
+    sph_status st = get_keyword(L, g, key, required, def, AXES, 3, out, &s);
+    if (st) return st;
+    if (*out >= L->scene->dim)
+        return fail_at(L, s, NULL, "must be \"x\" or \"y\" in 2D, got \"%s\"", AXES[*out]);
+    return SPH_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* overrides                                                                 */
+/* ------------------------------------------------------------------------ */
+
+/* Give setting s a new scalar value of src's type, in place (keeps its
+ * position in the parent).  libconfig has no type-changing setter, so the
+ * old value is released and the type reset first. */
+static bool set_scalar(config_setting_t *s, const config_setting_t *src) {
+    if (s->type == CONFIG_TYPE_STRING) free(s->value.sval);
+    memset(&s->value, 0, sizeof s->value);
+    s->type = CONFIG_TYPE_NONE;
+    switch (src->type) {
+    case CONFIG_TYPE_INT:
+        return config_setting_set_int(s, config_setting_get_int(src));
+    case CONFIG_TYPE_INT64:
+        return config_setting_set_int64(s, config_setting_get_int64(src));
+    case CONFIG_TYPE_FLOAT:
+        return config_setting_set_float(s, config_setting_get_float(src));
+    case CONFIG_TYPE_BOOL:
+        return config_setting_set_bool(s, config_setting_get_bool(src));
+    case CONFIG_TYPE_STRING:
+        return config_setting_set_string(s, config_setting_get_string(src));
+    default:
+        return false;
+    }
+}
+
+/* Deep copy of src as a new member `name` of parent (name ignored for list
+ * and array parents), marked as coming from override `ov`. */
+static config_setting_t *copy_setting(config_setting_t *parent, const char *name,
+                                      const config_setting_t *src, const char *ov) {
+    config_setting_t *s = config_setting_add(parent, name, src->type);
+    if (!s) return NULL;
+    config_setting_set_hook(s, (void *)ov);
+    if (config_setting_is_aggregate(src)) {
+        int n = config_setting_length(src);
+        for (int i = 0; i < n; i++) {
+            const config_setting_t *e = config_setting_get_elem(src, (unsigned)i);
+            if (!copy_setting(s, e->name, e, ov)) return NULL;
+        }
+        return s;
+    }
+    s->type = CONFIG_TYPE_NONE; /* so that set_scalar accepts the value */
+    return set_scalar(s, src) ? s : NULL;
+}
+
+/* Resolve one path component below `cur`: `[n]` is an element index, a name
+ * is a group member or, in a list of groups, the element whose `name` is it. */
+static config_setting_t *path_step(config_setting_t *cur, const char *comp) {
+    if (!config_setting_is_aggregate(cur)) return NULL;
+    if (comp[0] == '[') {
+        char *end;
+        long idx = strtol(comp + 1, &end, 10);
+        if (end == comp + 1 || strcmp(end, "]") != 0 || idx < 0) return NULL;
+        return config_setting_get_elem(cur, (unsigned)idx);
+    }
+    if (config_setting_is_group(cur)) return config_setting_get_member(cur, comp);
+    if (config_setting_is_list(cur)) {
+        int n = config_setting_length(cur);
+        for (int i = 0; i < n; i++) {
+            config_setting_t *e = config_setting_get_elem(cur, (unsigned)i);
+            const char *name;
+            if (config_setting_is_group(e) && config_setting_lookup_string(e, "name", &name) &&
+                strcmp(name, comp) == 0)
+                return e;
+        }
+    }
+    return NULL;
+}
+
+/* Move the last element of aggregate p to position idx.  libconfig can only
+ * append; its element table is public, so a replaced list element or group
+ * member is put back in its place by hand (the order of bodies matters). */
+static void move_last_to(config_setting_t *p, int idx) {
+    config_list_t *list = p->value.list;
+    unsigned last = list->length - 1;
+    config_setting_t *moved = list->elements[last];
+    memmove(&list->elements[idx + 1], &list->elements[idx],
+            (last - (unsigned)idx) * sizeof list->elements[0]);
+    list->elements[idx] = moved;
+}
+
+#define OV_FAIL(...) sph_fail(L->err, SPH_ERR_INPUT, __VA_ARGS__)
+
+/* Apply one "key=value" to the tree. */
+static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
+    const char *eq = strchr(ov, '=');
+    char key[SPH_SCENE_PATH_LEN];
+    if (!eq) return OV_FAIL("--set %s: expected key=value (for example time.end=0.5)", ov);
+    size_t klen = (size_t)(eq - ov);
+    while (klen > 0 && (ov[klen - 1] == ' ' || ov[klen - 1] == '\t')) klen--;
+    if (klen == 0) return OV_FAIL("--set %s: expected key=value, the key is empty", ov);
+    if (klen >= sizeof key) return OV_FAIL("--set %s: the key is too long", ov);
+    memcpy(key, ov, klen);
+    key[klen] = '\0';
+    if (key[0] == '.' || key[klen - 1] == '.' || strstr(key, ".."))
+        return OV_FAIL("--set %s: the key has an empty component (write a.b.c)", ov);
+    const char *value = eq + 1;
+    while (*value == ' ' || *value == '\t') value++;
+
+    /* The value in libconfig syntax (numbers, "strings", [vectors],
+     * {groups}, true/false); anything else is taken as a bare string so that
+     * method.formulation=enog needs no shell-quoted quotes. */
+    config_t vcfg;
+    config_init(&vcfg);
+    size_t need = strlen(value) + 16;
+    char *text = malloc(need);
+    if (!text) {
+        config_destroy(&vcfg);
+        return sph_fail(L->err, SPH_ERR_RUNTIME, "out of memory applying --set %s", ov);
+    }
+    snprintf(text, need, "v = %s;", value);
+    const config_setting_t *src = NULL;
+    int parsed = config_read_string(&vcfg, text);
+    free(text);
+    if (parsed == CONFIG_TRUE && config_setting_length(config_root_setting(&vcfg)) == 1)
+        src = config_setting_get_member(config_root_setting(&vcfg), "v");
+    if (!src && parsed != CONFIG_TRUE && strchr("[({\"", value[0]) && value[0]) {
+        /* meant as a vector, group or quoted string: a bare string would only
+         * hide the real mistake */
+        const char *why = config_error_text(&vcfg) ? config_error_text(&vcfg) : "syntax error";
+        sph_status fst = OV_FAIL("--set %s: cannot parse the value: %s%s", ov, why,
+                                 strstr(why, "mismatched element type")
+                                     ? " (write every number of an array as a decimal (0.0, not 0))"
+                                     : "");
+        config_destroy(&vcfg);
+        return fst;
+    }
+    if (!src) {
+        config_destroy(&vcfg);
+        config_init(&vcfg);
+        config_setting_t *sv =
+            config_setting_add(config_root_setting(&vcfg), "v", CONFIG_TYPE_STRING);
+        if (!sv || !config_setting_set_string(sv, value)) {
+            config_destroy(&vcfg);
+            return sph_fail(L->err, SPH_ERR_RUNTIME, "out of memory applying --set %s", ov);
+        }
+        src = sv;
+    }
+
+    /* walk to the parent of the last component */
+    sph_status st = SPH_OK;
+    config_setting_t *parent = config_root_setting(cfg);
+    char walked[SPH_SCENE_PATH_LEN] = "";
+    char *save = NULL;
+    char *comp = strtok_r(key, ".", &save);
+    if (!comp) {
+        st = OV_FAIL("--set %s: expected key=value, the key is empty", ov);
+        goto done;
+    }
+    for (char *next = strtok_r(NULL, ".", &save); next; next = strtok_r(NULL, ".", &save)) {
+        config_setting_t *child = path_step(parent, comp);
+        size_t wl = strlen(walked);
+        snprintf(walked + wl, sizeof walked - wl, "%s%s", wl ? "." : "", comp);
+        if (!child) {
+            st = OV_FAIL("--set %s: %s: no such setting in the scene, so it cannot hold '%s'", ov,
+                         walked, next);
+            goto done;
+        }
+        if (!config_setting_is_aggregate(child)) {
+            st = OV_FAIL("--set %s: %s: is %s, not a group or list, so it cannot hold '%s'", ov,
+                         walked, type_name(child->type), next);
+            goto done;
+        }
+        parent = child;
+        comp = next;
+    }
+    size_t wl = strlen(walked);
+    snprintf(walked + wl, sizeof walked - wl, "%s%s", wl ? "." : "", comp);
+
+    config_setting_t *target = path_step(parent, comp);
+    if (!target) {
+        /* create a new member; only groups have named members */
+        if (!config_setting_is_group(parent) || comp[0] == '[') {
+            st = OV_FAIL("--set %s: %s: no such element", ov, walked);
+            goto done;
+        }
+        if (!copy_setting(parent, comp, src, ov))
+            st = OV_FAIL("--set %s: %s: '%s' is not a valid setting name", ov, walked, comp);
+        goto done;
+    }
+
+    if (config_setting_is_scalar(target) && config_setting_is_scalar(src)) {
+        /* arrays hold one scalar type: an integer written into an array of
+         * decimals becomes a decimal */
+        config_setting_t tmp = *src;
+        if (config_setting_is_array(parent) && config_setting_length(parent) > 1) {
+            const config_setting_t *sib =
+                config_setting_get_elem(parent, config_setting_index(target) == 0 ? 1 : 0);
+            if (sib->type == CONFIG_TYPE_FLOAT &&
+                (src->type == CONFIG_TYPE_INT || src->type == CONFIG_TYPE_INT64)) {
+                tmp.type = CONFIG_TYPE_FLOAT;
+                tmp.value.fval = src->type == CONFIG_TYPE_INT ? (double)src->value.ival
+                                                              : (double)src->value.llval;
+            } else if (sib->type != src->type) {
+                st = OV_FAIL("--set %s: %s: every element of this array is %s, got %s", ov, walked,
+                             type_name(sib->type), type_name(src->type));
+                goto done;
+            }
+        }
+        if (!set_scalar(target, &tmp)) {
+            st = sph_fail(L->err, SPH_ERR_RUNTIME, "out of memory applying --set %s", ov);
+            goto done;
+        }
+        config_setting_set_hook(target, (void *)ov);
+        goto done;
+    }
+
+    /* an aggregate replaces or is replaced: rebuild the setting in place */
+    if (config_setting_is_array(parent)) {
+        st = OV_FAIL("--set %s: %s: an array element must be a single number, string or boolean",
+                     ov, walked);
+        goto done;
+    }
+    int idx = config_setting_index(target);
+    char *name = NULL;
+    if (config_setting_is_group(parent) && !(name = strdup(target->name))) {
+        st = sph_fail(L->err, SPH_ERR_RUNTIME, "out of memory applying --set %s", ov);
+        goto done;
+    }
+    config_setting_remove_elem(parent, (unsigned)idx);
+    if (copy_setting(parent, name, src, ov))
+        move_last_to(parent, idx);
+    else
+        st = sph_fail(L->err, SPH_ERR_RUNTIME, "out of memory applying --set %s", ov);
+    free(name);
+
+done:
+    config_destroy(&vcfg);
+    return st;
+}
+
+/* ------------------------------------------------------------------------ */
+/* schema                                                                    */
+/* ------------------------------------------------------------------------ */
+
+static sph_status parse_resolution(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g;
+    sph_status st = get_group(L, root, "resolution", true, &g);
+    if (st || (st = check_keys(L, g, KEYS("dp", "reference_length", "ratio")))) return st;
+    bool has_dp = config_setting_get_member(g, "dp") != NULL;
+    bool has_ratio_form = config_setting_get_member(g, "reference_length") != NULL ||
+                          config_setting_get_member(g, "ratio") != NULL;
+    if (has_dp && has_ratio_form) {
+        /* point at an override that brought in the second form, if any */
+        const config_setting_t *at = g;
+        const char *members[3] = {"dp", "reference_length", "ratio"};
+        for (int i = 0; i < 3 && !override_of(at); i++) {
+            const config_setting_t *m = config_setting_get_member(g, members[i]);
+            if (m && override_of(m)) at = m;
+        }
+        return fail_at(L, at, NULL,
+                       "give either dp or reference_length and ratio (dp = reference_length / "
+                       "ratio), not both");
+    }
+    if (!has_dp && !has_ratio_form)
+        return fail_at(L, g, NULL, "missing required key: dp, or reference_length and ratio");
+    if (has_dp) return get_float(L, g, "dp", true, 0, 0, true, INFINITY, false, &sc->dp);
+    double length = 0.0, ratio = 1.0;
+    if ((st = get_float(L, g, "reference_length", true, 0, 0, true, INFINITY, false, &length)) ||
+        (st = get_float(L, g, "ratio", true, 0, 0, true, INFINITY, false, &ratio)))
+        return st;
+    sc->dp = length / ratio;
+    return SPH_OK;
+}
+
+static sph_status parse_method(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g, *rot_at;
+    sph_status st = get_group(L, root, "method", true, &g);
+    if (st || (st = check_keys(L, g,
+                               KEYS("formulation", "rotation", "kernel", "smoothing_ratio", "xi_e",
+                                    "riemann_limiter"))))
+        return st;
+    int formulation = 0, rotation = 0, kernel = 0;
+    const config_setting_t *form_at;
+    if ((st = get_keyword(L, g, "formulation", true, 0, KEYS("enog", "enog-a"), &formulation,
+                          &form_at)))
+        return st;
+    sc->formulation = (sph_formulation)formulation;
+    /* ENOG (000) has no rotation correction; ENOG-A (003) needs one */
+    int def_rot = formulation == SPH_FORMULATION_ENOG ? SPH_ROTATION_NONE : SPH_ROTATION_AVERAGED;
+    if ((st = get_keyword(L, g, "rotation", false, def_rot,
+                          KEYS("none", "averaged", "per-particle"), &rotation, &rot_at)))
+        return st;
+    bool enog_rotated = formulation == SPH_FORMULATION_ENOG && rotation != SPH_ROTATION_NONE;
+    bool enog_a_bare = formulation == SPH_FORMULATION_ENOG_A && rotation == SPH_ROTATION_NONE;
+    if ((enog_rotated || enog_a_bare) && rot_at && override_of(form_at) && !override_of(rot_at)) {
+        /* the override of the formulation caused the conflict: say so, and
+         * what else to set */
+        return fail_at(L, form_at, NULL,
+                       "formulation \"%s\" conflicts with method.rotation = \"%s\" (%s:%u); "
+                       "add --set method.rotation=%s",
+                       sph_formulation_name((sph_formulation)formulation),
+                       sph_rotation_name((sph_rotation)rotation), L->file,
+                       config_setting_source_line(rot_at), enog_rotated ? "none" : "averaged");
+    }
+    if (enog_rotated)
+        return fail_at(L, rot_at, NULL,
+                       "formulation \"enog\" has no rotation correction, so rotation must be "
+                       "\"none\", got \"%s\" (use formulation \"enog-a\" for a rotation-corrected "
+                       "run)",
+                       sph_rotation_name((sph_rotation)rotation));
+    if (enog_a_bare)
+        return fail_at(L, rot_at, NULL,
+                       "formulation \"enog-a\" needs a rotation correction, so rotation must be "
+                       "\"averaged\" or \"per-particle\", got \"none\" (use formulation \"enog\" "
+                       "for an uncorrected run)");
+    sc->rotation = (sph_rotation)rotation;
+    if ((st = get_keyword(L, g, "kernel", false, SPH_KERNEL_WENDLAND_C2, KEYS("wendland-c2"),
+                          &kernel, NULL)))
+        return st;
+    sc->kernel = (sph_kernel)kernel;
+    if ((st = get_float(L, g, "smoothing_ratio", false, 1.3, 1.0, false, 2.0, false,
+                        &sc->smoothing_ratio)))
+        return st;
+    /* xi_E: the coefficient of the shear-acceleration Laplacian, 0.7 d + 2.1
+     * as calibrated in 000 (eq. 23, "zeta"; 003 eq. 25) */
+    if ((st = get_float(L, g, "xi_e", false, 0.7 * sc->dim + 2.1, 0, true, INFINITY, false,
+                        &sc->xi_e)))
+        return st;
+    return get_float(L, g, "riemann_limiter", false, 0.0, 0, false, INFINITY, false,
+                     &sc->riemann_limiter_slope);
+}
+
+static sph_status parse_time(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g;
+    sph_status st = get_group(L, root, "time", true, &g);
+    if (st || (st = check_keys(L, g,
+                               KEYS("end", "output_interval", "stepping", "cfl_advection",
+                                    "cfl_acoustic", "reference_speed", "acceleration_criterion"))))
+        return st;
+    if ((st = get_float(L, g, "end", true, 0, 0, true, INFINITY, false, &sc->end_time)) ||
+        (st = get_float(L, g, "output_interval", true, 0, 0, true, INFINITY, false,
+                        &sc->output_interval)))
+        return st;
+    if (sc->output_interval > sc->end_time)
+        return fail_at(L, config_setting_get_member(g, "output_interval"), NULL,
+                       "must not exceed time.end (%g), got %g", sc->end_time, sc->output_interval);
+    int stepping = 0;
+    if ((st = get_keyword(L, g, "stepping", false, SPH_STEPPING_DUAL, KEYS("dual", "single"),
+                          &stepping, NULL)))
+        return st;
+    sc->stepping = (sph_stepping)stepping;
+    if ((st =
+             get_float(L, g, "cfl_advection", false, 0.2, 0, true, 1, false, &sc->cfl_advection)) ||
+        (st = get_float(L, g, "cfl_acoustic", false, 0.4, 0, true, 1, false, &sc->cfl_acoustic)))
+        return st;
+    sc->has_reference_speed = config_setting_get_member(g, "reference_speed") != NULL;
+    if ((st = get_float(L, g, "reference_speed", false, 0.0, 0, false, INFINITY, false,
+                        &sc->reference_speed)))
+        return st;
+    return get_bool(L, g, "acceleration_criterion", true, &sc->acceleration_criterion);
+}
+
+static sph_status parse_materials(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g;
+    sph_status st = get_group(L, root, "materials", true, &g);
+    if (st) return st;
+    int n = config_setting_length(g);
+    if (n == 0) return fail_at(L, g, NULL, "define at least one material");
+    if (n > SPH_SCENE_MAX_MATERIALS)
+        return fail_at(L, g, NULL, "at most %d materials, got %d", SPH_SCENE_MAX_MATERIALS, n);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *m = config_setting_get_elem(g, (unsigned)i);
+        sph_material *mat = &sc->materials[i];
+        if (!config_setting_is_group(m))
+            return fail_at(L, m, NULL,
+                           "expected a group { density; youngs_modulus; poisson_ratio; }, got %s",
+                           type_name(config_setting_type(m)));
+        if (strlen(m->name) >= SPH_NAME_LEN)
+            return fail_at(L, m, NULL, "names are limited to %d characters", SPH_NAME_LEN - 1);
+        if ((st = check_keys(L, m, KEYS("density", "youngs_modulus", "poisson_ratio"))) ||
+            (st = get_float(L, m, "density", true, 0, 0, true, INFINITY, false, &mat->density)) ||
+            (st = get_float(L, m, "youngs_modulus", true, 0, 0, true, INFINITY, false,
+                            &mat->youngs_modulus)) ||
+            (st = get_float(L, m, "poisson_ratio", true, 0, 0, false, 0.5, true,
+                            &mat->poisson_ratio)))
+            return st;
+        snprintf(mat->name, sizeof mat->name, "%s", m->name);
+        double E = mat->youngs_modulus, nu = mat->poisson_ratio;
+        mat->bulk_modulus = E / (3.0 * (1.0 - 2.0 * nu));
+        mat->shear_modulus = E / (2.0 * (1.0 + nu));
+        /* 000 eq. 5: c0 = sqrt(K / rho0) */
+        mat->sound_speed = sqrt(mat->bulk_modulus / mat->density);
+    }
+    sc->nmaterials = n;
+    return SPH_OK;
+}
+
+static int find_named_shape(const loader *L, const char *name) {
+    for (int i = 0; i < L->nnamed_shapes; i++)
+        if (strcmp(L->scene->shapes[i].name, name) == 0) return i;
+    return -1;
+}
+
+static sph_status unknown_shape(loader *L, const config_setting_t *at, const char *name) {
+    const char *names[SPH_SCENE_MAX_SHAPES];
+    for (int i = 0; i < L->nnamed_shapes; i++) names[i] = L->scene->shapes[i].name;
+    char hint[1024];
+    suggest(name, names, L->nnamed_shapes, "defined shapes", hint, sizeof hint);
+    return fail_at(L, at, NULL, "unknown shape '%s'%s", name, hint);
+}
+
+static sph_status parse_shape(loader *L, const config_setting_t *s, int index);
+
+/* One element of a union/difference `parts`: a shape name or an inline shape. */
+static sph_status parse_part(loader *L, const config_setting_t *e, int *out) {
+    if (config_setting_type(e) == CONFIG_TYPE_STRING) {
+        const char *name = config_setting_get_string(e);
+        *out = find_named_shape(L, name);
+        if (*out < 0) return unknown_shape(L, e, name);
+        return SPH_OK;
+    }
+    if (config_setting_is_group(e)) {
+        sph_scene *sc = L->scene;
+        if (sc->nshapes >= SPH_SCENE_MAX_SHAPES)
+            return fail_at(L, e, NULL, "too many shapes (at most %d, inline ones included)",
+                           SPH_SCENE_MAX_SHAPES);
+        *out = sc->nshapes++;
+        sc->shapes[*out].name[0] = '\0';
+        return parse_shape(L, e, *out);
+    }
+    return fail_at(L, e, NULL,
+                   "expected a shape name or an inline shape group { type = ...; }, got %s",
+                   type_name(config_setting_type(e)));
+}
+
+static sph_status parse_shape(loader *L, const config_setting_t *s, int index) {
+    sph_scene *sc = L->scene;
+    sph_shape *sh = &sc->shapes[index];
+    L->shape_def[index] = s;
+    L->shape_parts[index] = NULL;
+    sh->line = (int)config_setting_source_line(s);
+    if (!config_setting_is_group(s))
+        return fail_at(L, s, NULL, "expected a shape group { type = ...; }, got %s",
+                       type_name(config_setting_type(s)));
+    int type = 0;
+    sph_status st =
+        get_keyword(L, s, "type", true, 0, KEYS("box", "union", "difference"), &type, NULL);
+    if (st) return st;
+    const int dim = sc->dim;
+    if (type == 0) {
+        sh->type = SPH_SHAPE_BOX;
+        const config_setting_t *upper_at;
+        double lpad[3] = {0, 0, 0}, upad[3] = {0, 0, 0};
+        if ((st = check_keys(L, s,
+                             KEYS("type", "lower", "upper", "lower_pad_dp", "upper_pad_dp"))) ||
+            (st = get_vector(L, s, "lower", true, dim, sh->lower, NULL)) ||
+            (st = get_vector(L, s, "upper", true, dim, sh->upper, &upper_at)))
+            return st;
+        const char *pad_keys[2] = {"lower_pad_dp", "upper_pad_dp"};
+        double *pads[2] = {lpad, upad};
+        for (int k = 0; k < 2; k++) {
+            const config_setting_t *at;
+            if ((st = get_vector(L, s, pad_keys[k], false, dim, pads[k], &at))) return st;
+            for (int a = 0; at && a < dim; a++)
+                if (pads[k][a] < 0)
+                    return fail_at(L, config_setting_get_elem(at, (unsigned)a), NULL,
+                                   "padding must be >= 0, got %g", pads[k][a]);
+        }
+        /* padding in particle spacings, e.g. the clamp layer of the plate */
+        for (int a = 0; a < dim; a++) {
+            sh->lower[a] -= lpad[a] * sc->dp;
+            sh->upper[a] += upad[a] * sc->dp;
+        }
+        for (int a = 0; a < dim; a++)
+            if (!(sh->upper[a] > sh->lower[a]))
+                return fail_at(L, upper_at, NULL,
+                               "must exceed lower in every component (padding included), got "
+                               "upper.%s = %g <= lower.%s = %g",
+                               AXES[a], sh->upper[a], AXES[a], sh->lower[a]);
+        sh->nparts = 0;
+        return SPH_OK;
+    }
+
+    sh->type = type == 1 ? SPH_SHAPE_UNION : SPH_SHAPE_DIFFERENCE;
+    const config_setting_t *parts;
+    if ((st = check_keys(L, s, KEYS("type", "parts"))) ||
+        (st = get_member(L, s, "parts", true, &parts)))
+        return st;
+    L->shape_parts[index] = parts;
+    if (!config_setting_is_array(parts) && !config_setting_is_list(parts))
+        return fail_at(L, parts, NULL,
+                       "expected an array of shape names [\"a\", \"b\"] or a list, got %s",
+                       type_name(config_setting_type(parts)));
+    int n = config_setting_length(parts);
+    int min = sh->type == SPH_SHAPE_UNION ? 1 : 2;
+    if (n < min)
+        return fail_at(L, parts, NULL, "a %s needs at least %d part%s, got %d",
+                       type == 1 ? "union" : "difference", min, min == 1 ? "" : "s", n);
+    if (n > SPH_SCENE_MAX_SHAPE_PARTS)
+        return fail_at(L, parts, NULL, "at most %d parts, got %d", SPH_SCENE_MAX_SHAPE_PARTS, n);
+    sh->nparts = n;
+    for (int i = 0; i < n; i++) {
+        int part = -1;
+        if ((st = parse_part(L, config_setting_get_elem(parts, (unsigned)i), &part))) return st;
+        sh->parts[i] = part;
+    }
+    return SPH_OK;
+}
+
+/* Depth-first search for a shape that contains itself. */
+static sph_status check_cycles(loader *L, int u, int *state, int *stack, int depth) {
+    const sph_scene *sc = L->scene;
+    state[u] = 1;
+    stack[depth] = u;
+    const sph_shape *sh = &sc->shapes[u];
+    for (int i = 0; i < sh->nparts; i++) {
+        int v = sh->parts[i];
+        if (state[v] == 1) {
+            char chain[1024];
+            size_t len = 0;
+            int from = depth;
+            while (from > 0 && stack[from] != v) from--;
+            for (int k = from; k <= depth + 1 && len < sizeof chain; k++) {
+                int w = k <= depth ? stack[k] : v;
+                const char *name = sc->shapes[w].name;
+                if (name[0])
+                    len += (size_t)snprintf(chain + len, sizeof chain - len, "%s'%s'",
+                                            k > from ? " -> " : "", name);
+                else
+                    len += (size_t)snprintf(chain + len, sizeof chain - len,
+                                            "%s(inline shape, line %d)", k > from ? " -> " : "",
+                                            sc->shapes[w].line);
+            }
+            return fail_at(L, L->shape_parts[u] ? L->shape_parts[u] : L->shape_def[u], NULL,
+                           "shapes refer to each other in a cycle: %s", chain);
+        }
+        if (state[v] == 0) {
+            sph_status st = check_cycles(L, v, state, stack, depth + 1);
+            if (st) return st;
+        }
+    }
+    state[u] = 2;
+    return SPH_OK;
+}
+
+static sph_status parse_shapes(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g;
+    sph_status st = get_group(L, root, "shapes", true, &g);
+    if (st) return st;
+    int n = config_setting_length(g);
+    if (n == 0) return fail_at(L, g, NULL, "define at least one shape");
+    if (n > SPH_SCENE_MAX_SHAPES)
+        return fail_at(L, g, NULL, "at most %d shapes, got %d", SPH_SCENE_MAX_SHAPES, n);
+    /* names first, so that a shape may refer to one defined after it */
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *s = config_setting_get_elem(g, (unsigned)i);
+        if (strlen(s->name) >= SPH_NAME_LEN)
+            return fail_at(L, s, NULL, "names are limited to %d characters", SPH_NAME_LEN - 1);
+        snprintf(sc->shapes[i].name, sizeof sc->shapes[i].name, "%s", s->name);
+    }
+    sc->nshapes = L->nnamed_shapes = n;
+    for (int i = 0; i < n; i++)
+        if ((st = parse_shape(L, config_setting_get_elem(g, (unsigned)i), i))) return st;
+    int state[SPH_SCENE_MAX_SHAPES] = {0}, stack[SPH_SCENE_MAX_SHAPES + 1];
+    for (int i = 0; i < sc->nshapes; i++)
+        if (state[i] == 0 && (st = check_cycles(L, i, state, stack, 0))) return st;
+    return SPH_OK;
+}
+
+static sph_status parse_velocity(loader *L, const config_setting_t *g, sph_velocity_field *v) {
+    const int dim = L->scene->dim;
+    int type = 0;
+    sph_status st =
+        get_keyword(L, g, "type", true, 0,
+                    KEYS("zero", "uniform", "rigid_rotation", "cantilever_mode"), &type, NULL);
+    if (st) return st;
+    v->type = (sph_velocity_type)type;
+    switch (v->type) {
+    case SPH_VELOCITY_ZERO:
+        return check_keys(L, g, KEYS("type"));
+    case SPH_VELOCITY_UNIFORM:
+        if ((st = check_keys(L, g, KEYS("type", "vector")))) return st;
+        return get_vector(L, g, "vector", true, dim, v->vector, NULL);
+    case SPH_VELOCITY_RIGID_ROTATION: {
+        const config_setting_t *w;
+        if ((st = check_keys(L, g, KEYS("type", "omega", "centre"))) ||
+            (st = get_member(L, g, "omega", true, &w)))
+            return st;
+        if (dim == 2) {
+            /* in the plane the rotation is about z */
+            if (!config_setting_is_number(w))
+                return fail_at(L, w, NULL,
+                               "expected a number (the rotation rate about z in 2D), got %s",
+                               type_name(config_setting_type(w)));
+            if ((st = as_float(L, w, &v->omega[2]))) return st;
+        } else if ((st = as_vector(L, w, 3, v->omega))) {
+            return st;
+        }
+        return get_vector(L, g, "centre", false, dim, v->centre, NULL);
+    }
+    case SPH_VELOCITY_CANTILEVER_MODE:
+        /* 003 eqs. 50-51: the first bending mode of a clamped plate */
+        if ((st = check_keys(L, g,
+                             KEYS("type", "amplitude_c0", "length", "kl", "clamp_x", "axis"))) ||
+            (st = get_float(L, g, "amplitude_c0", true, 0, -INFINITY, false, INFINITY, false,
+                            &v->amplitude_c0)) ||
+            (st = get_float(L, g, "length", true, 0, 0, true, INFINITY, false, &v->length)) ||
+            (st = get_float(L, g, "kl", false, 1.875, 0, true, INFINITY, false, &v->kl)) ||
+            (st = get_float(L, g, "clamp_x", false, 0.0, -INFINITY, false, INFINITY, false,
+                            &v->clamp_x)))
+            return st;
+        return get_axis(L, g, "axis", false, 1, &v->axis);
+    }
+    return SPH_OK;
+}
+
+static int find_material(const sph_scene *sc, const char *name) {
+    for (int i = 0; i < sc->nmaterials; i++)
+        if (strcmp(sc->materials[i].name, name) == 0) return i;
+    return -1;
+}
+
+static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
+    sph_scene *sc = L->scene;
+    sph_body *body = &sc->bodies[index];
+    if (!config_setting_is_group(b))
+        return fail_at(L, b, NULL, "expected a body group { name; material; shape; }, got %s",
+                       type_name(config_setting_type(b)));
+    const config_setting_t *at, *vel, *cons;
+    const char *name = "", *material = "", *shape = "";
+    sph_status st;
+    if ((st = check_keys(L, b,
+                         KEYS("name", "material", "shape", "initial_velocity", "constraints"))) ||
+        (st = get_name(L, b, "name", &name, &at)))
+        return st;
+    for (int i = 0; i < index; i++)
+        if (strcmp(sc->bodies[i].name, name) == 0)
+            return fail_at(L, at, NULL, "duplicate body name '%s' (bodies.[%d] has it too)", name,
+                           i);
+    snprintf(body->name, sizeof body->name, "%s", name);
+
+    if ((st = get_name(L, b, "material", &material, &at))) return st;
+    body->material = find_material(sc, material);
+    if (body->material < 0) {
+        const char *names[SPH_SCENE_MAX_MATERIALS];
+        for (int i = 0; i < sc->nmaterials; i++) names[i] = sc->materials[i].name;
+        char hint[1024];
+        suggest(material, names, sc->nmaterials, "defined materials", hint, sizeof hint);
+        return fail_at(L, at, NULL, "unknown material '%s'%s", material, hint);
+    }
+
+    if ((st = get_name(L, b, "shape", &shape, &at))) return st;
+    body->shape = find_named_shape(L, shape);
+    if (body->shape < 0) return unknown_shape(L, at, shape);
+
+    memset(&body->velocity, 0, sizeof body->velocity);
+    body->velocity.type = SPH_VELOCITY_ZERO;
+    if ((st = get_group(L, b, "initial_velocity", false, &vel))) return st;
+    if (vel && (st = parse_velocity(L, vel, &body->velocity))) return st;
+
+    body->nconstraints = 0;
+    if ((st = get_list(L, b, "constraints", false, &cons))) return st;
+    int nc = cons ? config_setting_length(cons) : 0;
+    if (nc > SPH_SCENE_MAX_CONSTRAINTS)
+        return fail_at(L, cons, NULL, "at most %d constraints per body, got %d",
+                       SPH_SCENE_MAX_CONSTRAINTS, nc);
+    for (int i = 0; i < nc; i++) {
+        const config_setting_t *c = config_setting_get_elem(cons, (unsigned)i);
+        if (!config_setting_is_group(c))
+            return fail_at(L, c, NULL, "expected a constraint group { type; region; }, got %s",
+                           type_name(config_setting_type(c)));
+        int type = 0;
+        const char *region = "";
+        if ((st = check_keys(L, c, KEYS("type", "region"))) ||
+            (st = get_keyword(L, c, "type", true, 0, KEYS("fixed"), &type, NULL)) ||
+            (st = get_name(L, c, "region", &region, &at)))
+            return st;
+        sph_constraint *con = &body->constraints[i];
+        con->type = SPH_CONSTRAINT_FIXED;
+        con->region = find_named_shape(L, region);
+        if (con->region < 0) return unknown_shape(L, at, region);
+    }
+    body->nconstraints = nc;
+    return SPH_OK;
+}
+
+static sph_status parse_bodies(loader *L, const config_setting_t *root) {
+    const config_setting_t *list;
+    sph_status st = get_list(L, root, "bodies", true, &list);
+    if (st) return st;
+    int n = config_setting_length(list);
+    if (n < 1 || n > SPH_SCENE_MAX_BODIES)
+        return fail_at(L, list, NULL, "expected 1 to %d bodies, got %d", SPH_SCENE_MAX_BODIES, n);
+    for (int i = 0; i < n; i++)
+        if ((st = parse_body(L, config_setting_get_elem(list, (unsigned)i), i))) return st;
+    L->scene->nbodies = n;
+    return SPH_OK;
+}
+
+static sph_status parse_observers(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *list;
+    sph_status st = get_list(L, root, "observers", false, &list);
+    if (st || !list) return st;
+    int n = config_setting_length(list);
+    if (n > SPH_SCENE_MAX_OBSERVERS)
+        return fail_at(L, list, NULL, "at most %d observers, got %d", SPH_SCENE_MAX_OBSERVERS, n);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *o = config_setting_get_elem(list, (unsigned)i), *at;
+        if (!config_setting_is_group(o))
+            return fail_at(L, o, NULL, "expected an observer group { name; position; }, got %s",
+                           type_name(config_setting_type(o)));
+        const char *name = "";
+        if ((st = check_keys(L, o, KEYS("name", "position"))) ||
+            (st = get_name(L, o, "name", &name, &at)))
+            return st;
+        for (int k = 0; k < i; k++)
+            if (strcmp(sc->observers[k].name, name) == 0)
+                return fail_at(L, at, NULL,
+                               "duplicate observer name '%s' (observers.[%d] has it too)", name, k);
+        snprintf(sc->observers[i].name, sizeof sc->observers[i].name, "%s", name);
+        if ((st = get_vector(L, o, "position", true, sc->dim, sc->observers[i].position, NULL)))
+            return st;
+    }
+    sc->nobservers = n;
+    return SPH_OK;
+}
+
+static sph_status parse_analysis(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g, *p, *at;
+    sph_status st = get_group(L, root, "analysis", false, &g);
+    if (st || !g) return st;
+    if ((st = check_keys(L, g, KEYS("period"))) || (st = get_group(L, g, "period", false, &p)))
+        return st;
+    if (!p) return SPH_OK;
+    const char *name = "";
+    if ((st = check_keys(L, p, KEYS("observer", "axis"))) ||
+        (st = get_name(L, p, "observer", &name, &at)))
+        return st;
+    for (int i = 0; i < sc->nobservers; i++)
+        if (strcmp(sc->observers[i].name, name) == 0) sc->period_observer = i;
+    if (sc->period_observer < 0) {
+        const char *names[SPH_SCENE_MAX_OBSERVERS];
+        for (int i = 0; i < sc->nobservers; i++) names[i] = sc->observers[i].name;
+        char hint[1024];
+        suggest(name, names, sc->nobservers, "defined observers", hint, sizeof hint);
+        return fail_at(L, at, NULL, "unknown observer '%s'%s", name, hint);
+    }
+    return get_axis(L, p, "axis", true, 0, &sc->period_axis);
+}
+
+static sph_status parse_scene(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    sph_status st;
+    if ((st = check_keys(L, root,
+                         KEYS("title", "dimension", "resolution", "method", "time", "materials",
+                              "shapes", "bodies", "observers", "analysis", "gravity",
+                              "lattice_origin"))))
+        return st;
+
+    const config_setting_t *at;
+    if ((st = get_member(L, root, "title", false, &at))) return st;
+    if (at) {
+        const char *title = "";
+        if ((st = as_string(L, at, &title))) return st;
+        if (strlen(title) >= sizeof sc->title)
+            return fail_at(L, at, NULL, "titles are limited to %zu characters",
+                           sizeof sc->title - 1);
+        snprintf(sc->title, sizeof sc->title, "%s", title);
+    }
+    if ((st = get_int(L, root, "dimension", true, 0, &sc->dim, &at))) return st;
+    if (sc->dim != 2 && sc->dim != 3)
+        return fail_at(L, at, NULL, "must be 2 or 3, got %d", sc->dim);
+
+    if ((st = parse_resolution(L, root)) || (st = parse_method(L, root)) ||
+        (st = parse_time(L, root)) || (st = parse_materials(L, root)) ||
+        (st = parse_shapes(L, root)) || (st = parse_bodies(L, root)) ||
+        (st = parse_observers(L, root)) || (st = parse_analysis(L, root)))
+        return st;
+    if ((st = get_vector(L, root, "gravity", false, sc->dim, sc->gravity, NULL)) ||
+        (st = get_vector(L, root, "lattice_origin", false, sc->dim, sc->lattice_origin, &at)))
+        return st;
+    sc->has_lattice_origin = at != NULL;
+    return SPH_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* public API                                                                */
+/* ------------------------------------------------------------------------ */
+
+static sph_status read_scene_file(loader *L, config_t *cfg, const char *path) {
+    FILE *fp = fopen(path, "r");
+    if (!fp)
+        return sph_fail(L->err, SPH_ERR_INPUT, "%s: cannot read scene file: %s", path,
+                        strerror(errno));
+    struct stat stbuf;
+    if (fstat(fileno(fp), &stbuf) == 0 && S_ISDIR(stbuf.st_mode)) {
+        fclose(fp);
+        return sph_fail(L->err, SPH_ERR_INPUT, "%s: cannot read scene file: %s", path,
+                        strerror(EISDIR));
+    }
+    /* @include "x" is resolved next to the scene file */
+    char dir[SPH_SCENE_PATH_LEN];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash) {
+        *slash = '\0';
+        config_set_include_dir(cfg, dir[0] ? dir : "/");
+    }
+    int ok = config_read(cfg, fp);
+    int read_errno = ferror(fp) ? errno : 0;
+    fclose(fp);
+    if (ok == CONFIG_TRUE) return SPH_OK;
+    if (config_error_type(cfg) == CONFIG_ERR_FILE_IO || read_errno)
+        return sph_fail(L->err, SPH_ERR_INPUT, "%s: cannot read scene file: %s", path,
+                        read_errno ? strerror(read_errno) : config_error_text(cfg));
+    const char *text = config_error_text(cfg) ? config_error_text(cfg) : "syntax error";
+    const char *file = config_error_file(cfg) ? config_error_file(cfg) : path;
+    const char *hint = strstr(text, "mismatched element type")
+                           ? " (write every number of an array as a decimal (0.0, not 0), or use "
+                             "a list ( ... ))"
+                           : "";
+    if (strcmp(text, "syntax error") == 0)
+        return sph_fail(L->err, SPH_ERR_INPUT, "%s:%d: syntax error", file, config_error_line(cfg));
+    return sph_fail(L->err, SPH_ERR_INPUT, "%s:%d: syntax error: %s%s", file,
+                    config_error_line(cfg), text, hint);
+}
+
+static sph_status write_resolved(sph_scene *scene, const config_t *cfg, sph_error *err) {
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&buf, &len);
+    if (!mem)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot record the resolved scene: %s",
+                        strerror(errno));
+    config_write(cfg, mem);
+    if (fclose(mem) != 0 || !buf) {
+        free(buf);
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot record the resolved scene: out of memory");
+    }
+    scene->resolved_text = buf;
+    return SPH_OK;
+}
+
+sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const *overrides,
+                          int noverrides, sph_error *err) {
+    memset(scene, 0, sizeof *scene);
+    scene->period_observer = -1;
+    scene->acceleration_criterion = true;
+    if (!path) return sph_fail(err, SPH_ERR_INPUT, "no scene file given");
+    if (strlen(path) >= sizeof scene->path)
+        return sph_fail(err, SPH_ERR_INPUT, "%s: cannot read scene file: path too long", path);
+    snprintf(scene->path, sizeof scene->path, "%s", path);
+
+    loader L = {.file = path, .err = err, .scene = scene};
+    config_t cfg;
+    config_init(&cfg);
+    sph_status st = read_scene_file(&L, &cfg, path);
+    for (int i = 0; st == SPH_OK && i < noverrides; i++)
+        st = apply_override(&L, &cfg, overrides[i]);
+    if (st == SPH_OK) st = write_resolved(scene, &cfg, err);
+    if (st == SPH_OK) st = parse_scene(&L, config_root_setting(&cfg));
+    config_destroy(&cfg);
+    if (st != SPH_OK) {
+        free(scene->resolved_text);
+        scene->resolved_text = NULL;
+    }
+    return st;
+}
+
+void sph_scene_free(sph_scene *scene) {
+    if (!scene) return;
+    free(scene->resolved_text);
+    scene->resolved_text = NULL;
+}
+
+/* ------------------------------------------------------------------------ */
+/* geometry                                                                  */
+/* ------------------------------------------------------------------------ */
+
+bool sph_shape_contains(const sph_scene *scene, int shape, const double x[3]) {
+    const sph_shape *sh = &scene->shapes[shape];
+    switch (sh->type) {
+    case SPH_SHAPE_BOX:
+        for (int a = 0; a < scene->dim; a++)
+            if (x[a] < sh->lower[a] || x[a] > sh->upper[a]) return false;
+        return true;
+    case SPH_SHAPE_UNION:
+        for (int i = 0; i < sh->nparts; i++)
+            if (sph_shape_contains(scene, sh->parts[i], x)) return true;
+        return false;
+    case SPH_SHAPE_DIFFERENCE:
+        if (!sph_shape_contains(scene, sh->parts[0], x)) return false;
+        for (int i = 1; i < sh->nparts; i++)
+            if (sph_shape_contains(scene, sh->parts[i], x)) return false;
+        return true;
+    }
+    return false;
+}
+
+void sph_shape_bounds(const sph_scene *scene, int shape, double lower[3], double upper[3]) {
+    const sph_shape *sh = &scene->shapes[shape];
+    switch (sh->type) {
+    case SPH_SHAPE_BOX:
+        for (int a = 0; a < 3; a++) lower[a] = sh->lower[a], upper[a] = sh->upper[a];
+        return;
+    case SPH_SHAPE_UNION:
+        sph_shape_bounds(scene, sh->parts[0], lower, upper);
+        for (int i = 1; i < sh->nparts; i++) {
+            double lo[3], hi[3];
+            sph_shape_bounds(scene, sh->parts[i], lo, hi);
+            for (int a = 0; a < 3; a++) {
+                if (lo[a] < lower[a]) lower[a] = lo[a];
+                if (hi[a] > upper[a]) upper[a] = hi[a];
+            }
+        }
+        return;
+    case SPH_SHAPE_DIFFERENCE:
+        /* removing parts never grows the first one */
+        sph_shape_bounds(scene, sh->parts[0], lower, upper);
+        return;
+    }
+}
+
+/* ------------------------------------------------------------------------ */
+/* names                                                                     */
+/* ------------------------------------------------------------------------ */
+
+const char *sph_formulation_name(sph_formulation f) {
+    switch (f) {
+    case SPH_FORMULATION_ENOG:
+        return "enog";
+    case SPH_FORMULATION_ENOG_A:
+        return "enog-a";
+    }
+    return "?";
+}
+
+const char *sph_rotation_name(sph_rotation r) {
+    switch (r) {
+    case SPH_ROTATION_NONE:
+        return "none";
+    case SPH_ROTATION_AVERAGED:
+        return "averaged";
+    case SPH_ROTATION_PER_PARTICLE:
+        return "per-particle";
+    }
+    return "?";
+}
+
+const char *sph_kernel_name(sph_kernel k) {
+    switch (k) {
+    case SPH_KERNEL_WENDLAND_C2:
+        return "wendland-c2";
+    }
+    return "?";
+}
+
+const char *sph_stepping_name(sph_stepping s) {
+    switch (s) {
+    case SPH_STEPPING_DUAL:
+        return "dual";
+    case SPH_STEPPING_SINGLE:
+        return "single";
+    }
+    return "?";
+}

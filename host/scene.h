@@ -1,0 +1,152 @@
+/* scene.h — a validated simulation scene.
+ *
+ * Scenes are libconfig files (docs/scene-format.md): commented, human
+ * readable, every setting carries its source line.  sph_scene_load parses
+ * the file, applies the CLI overrides (`--set key=value`), checks every key
+ * against the schema (unknown keys are rejected with the nearest valid name)
+ * and every value against its range, and resolves names (materials, shapes,
+ * observers) into indices.  All errors are SPH_ERR_INPUT with a message that
+ * names the file, the line and the full key path.
+ *
+ * The struct is plain data with fixed-size tables; the only heap block is
+ * `resolved_text`, released by sph_scene_free.
+ */
+#ifndef SPH_SCENE_H
+#define SPH_SCENE_H
+
+#include "sph_error.h"
+
+#include <stdbool.h>
+
+#define SPH_NAME_LEN 64
+#define SPH_SCENE_MAX_BODIES 8 /* = SPH_MAX_BODIES of the device code */
+#define SPH_SCENE_MAX_SHAPES 64
+#define SPH_SCENE_MAX_SHAPE_PARTS 16
+#define SPH_SCENE_MAX_MATERIALS 8
+#define SPH_SCENE_MAX_CONSTRAINTS 8
+#define SPH_SCENE_MAX_OBSERVERS 16
+#define SPH_SCENE_PATH_LEN 1024
+
+typedef enum { SPH_FORMULATION_ENOG = 0, SPH_FORMULATION_ENOG_A = 1 } sph_formulation;
+/* values equal the device's ROTATION_* */
+typedef enum {
+    SPH_ROTATION_NONE = 0,
+    SPH_ROTATION_AVERAGED = 1,
+    SPH_ROTATION_PER_PARTICLE = 2
+} sph_rotation;
+typedef enum { SPH_STEPPING_DUAL = 0, SPH_STEPPING_SINGLE = 1 } sph_stepping;
+typedef enum { SPH_KERNEL_WENDLAND_C2 = 0 } sph_kernel;
+
+typedef enum { SPH_SHAPE_BOX, SPH_SHAPE_UNION, SPH_SHAPE_DIFFERENCE } sph_shape_type;
+typedef struct {
+    sph_shape_type type;
+    char name[SPH_NAME_LEN]; /* "" for a shape written inline */
+    int line;                /* source line of its definition */
+    double lower[3], upper[3]; /* box corners in metres, padding applied */
+    int nparts;
+    int parts[SPH_SCENE_MAX_SHAPE_PARTS]; /* indices into sph_scene.shapes */
+} sph_shape;
+
+typedef enum {
+    SPH_VELOCITY_ZERO,
+    SPH_VELOCITY_UNIFORM,        /* v = vector */
+    SPH_VELOCITY_RIGID_ROTATION, /* v = omega x (x - centre) */
+    SPH_VELOCITY_CANTILEVER_MODE /* 003 eqs. 50-51, see below */
+} sph_velocity_type;
+typedef struct {
+    sph_velocity_type type;
+    double vector[3];
+    double omega[3]; /* 2D: only omega[2] (about z) is used */
+    double centre[3];
+    /* cantilever mode: v[axis] = amplitude_c0 * c0 * f(s)/f(length) with
+     * s = x - clamp_x for s > 0, else 0;  f(s) = (sin kL + sinh kL)(cos ks -
+     * cosh ks) - (cos kL + cosh kL)(sin ks - sinh ks),  k = kl / length */
+    double amplitude_c0, length, kl, clamp_x;
+    int axis;
+} sph_velocity_field;
+
+typedef struct {
+    char name[SPH_NAME_LEN];
+    double density, youngs_modulus, poisson_ratio;
+    /* derived: c0 = sqrt(E / (3 (1 - 2 nu) rho0)) (000 eq. 5), G = E/(2(1+nu)),
+     * K = rho0 c0^2 = E / (3 (1 - 2 nu)) */
+    double sound_speed, shear_modulus, bulk_modulus;
+} sph_material;
+
+typedef enum { SPH_CONSTRAINT_FIXED } sph_constraint_type;
+typedef struct {
+    sph_constraint_type type;
+    int region; /* shape index */
+} sph_constraint;
+
+typedef struct {
+    char name[SPH_NAME_LEN];
+    int material; /* index into materials */
+    int shape;    /* index into shapes */
+    sph_velocity_field velocity;
+    int nconstraints;
+    sph_constraint constraints[SPH_SCENE_MAX_CONSTRAINTS];
+} sph_body;
+
+typedef struct {
+    char name[SPH_NAME_LEN];
+    double position[3];
+} sph_observer;
+
+typedef struct {
+    char path[SPH_SCENE_PATH_LEN]; /* the scene file as given */
+    char *resolved_text;           /* the scene after overrides, libconfig syntax (owned) */
+    char title[256];
+    int dim;
+
+    /* discretisation */
+    double dp;              /* initial particle spacing */
+    double smoothing_ratio; /* h / dp (1.3) */
+    sph_kernel kernel;
+    bool has_lattice_origin;
+    double lattice_origin[3]; /* default: lower corner of all bodies */
+
+    /* method */
+    sph_formulation formulation;
+    sph_rotation rotation;
+    double xi_e;                  /* default 0.7 d + 2.1 */
+    double riemann_limiter_slope; /* 0: unlimited dissipation */
+    double gravity[3];
+
+    /* time */
+    double end_time, output_interval;
+    sph_stepping stepping;
+    double cfl_advection, cfl_acoustic;
+    bool has_reference_speed;
+    double reference_speed; /* U_ref; default: max initial speed */
+    bool acceleration_criterion;
+
+    int nmaterials;
+    sph_material materials[SPH_SCENE_MAX_MATERIALS];
+    int nshapes;
+    sph_shape shapes[SPH_SCENE_MAX_SHAPES];
+    int nbodies;
+    sph_body bodies[SPH_SCENE_MAX_BODIES];
+    int nobservers;
+    sph_observer observers[SPH_SCENE_MAX_OBSERVERS];
+
+    /* analysis: first oscillation period of an observer's coordinate */
+    int period_observer; /* -1: none */
+    int period_axis;
+} sph_scene;
+
+/* Parse, override, validate.  `overrides` are "key=value" strings. */
+sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const *overrides,
+                          int noverrides, sph_error *err);
+void sph_scene_free(sph_scene *scene);
+
+/* Geometry queries on the scene's shape table. */
+bool sph_shape_contains(const sph_scene *scene, int shape, const double x[3]);
+void sph_shape_bounds(const sph_scene *scene, int shape, double lower[3], double upper[3]);
+
+const char *sph_formulation_name(sph_formulation f);
+const char *sph_rotation_name(sph_rotation r);
+const char *sph_kernel_name(sph_kernel k);
+const char *sph_stepping_name(sph_stepping s);
+
+#endif

@@ -1,0 +1,375 @@
+/* test_particles — the initial particle set (host/particles.c).
+ *
+ * Counts follow from the lattice rule (cell centres of a dp-grid anchored at
+ * the lower corner of all bodies) and the case geometry; energies and
+ * momenta from the initial velocity fields: the first cantilever mode of
+ * 003 eqs. 50-51 for the oscillating plate (reference value of the initial
+ * kinetic energy 4.0647984104106447 J/m) and rigid rotation for the
+ * spinning plate, whose sums over the lattice are evaluated in closed form
+ * below. */
+#include "particles.h"
+#include "test_util.h"
+
+#include <stdbool.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+static int ntmp;
+
+static void write_temp(const char *text, char *path, size_t size) {
+    snprintf(path, size, "%s/scene%d.cfg", tmpdir, ntmp++);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        perror(path);
+        exit(2);
+    }
+    fputs(text, f);
+    fclose(f);
+}
+
+static void case_path(const char *rel, char *path, size_t size) {
+    const char *root = getenv("SPHSOLID_SOURCE_DIR");
+    snprintf(path, size, "%s/%s", root ? root : ".", rel);
+}
+
+typedef struct {
+    double ke, p[3], lz, max_speed[3];
+} moments;
+
+static moments compute_moments(const sph_particles *p) {
+    moments m = {0};
+    const size_t n = (size_t)p->n;
+    for (size_t i = 0; i < n; i++) {
+        double v2 = 0.0;
+        for (int a = 0; a < p->dim; a++) {
+            double v = p->vel[(size_t)a * n + i];
+            v2 += v * v;
+            m.p[a] += p->mass[i] * v;
+            if (fabs(v) > m.max_speed[a]) m.max_speed[a] = fabs(v);
+        }
+        m.ke += 0.5 * p->mass[i] * v2;
+        double x = p->pos[i], y = p->pos[n + i], vx = p->vel[i], vy = p->vel[n + i];
+        m.lz += p->mass[i] * (x * vy - y * vx);
+    }
+    return m;
+}
+
+/* the particle nearest to (x, y) */
+static size_t nearest(const sph_particles *p, double x, double y) {
+    size_t best = 0;
+    double best_d = INFINITY;
+    const size_t n = (size_t)p->n;
+    for (size_t i = 0; i < n; i++) {
+        double dx = p->pos[i] - x, dy = p->pos[n + i] - y, d = dx * dx + dy * dy;
+        if (d < best_d) best_d = d, best = i;
+    }
+    return best;
+}
+
+static void check_bookkeeping(test_counts *c, const sph_particles *p, const sph_scene *s,
+                              const char *what) {
+    bool ids = true, bodies_sorted = true, masses = true;
+    int counts[SPH_SCENE_MAX_BODIES] = {0};
+    for (int i = 0; i < p->n; i++) {
+        ids &= p->id[i] == i;
+        if (i > 0) bodies_sorted &= p->body[i] >= p->body[i - 1];
+        const sph_material *m = &s->materials[s->bodies[p->body[i]].material];
+        masses &= p->mass[i] == m->density * pow(s->dp, s->dim) && p->rho[i] == m->density;
+        counts[p->body[i]]++;
+    }
+    CHECK(c, ids, "%s: id = running index", what);
+    CHECK(c, bodies_sorted, "%s: particles numbered body by body", what);
+    CHECK(c, masses, "%s: m = rho0 dp^d, rho = rho0", what);
+    for (int b = 0; b < s->nbodies; b++)
+        CHECK(c, counts[b] == p->body_count[b], "%s: body_count[%d] = %d, counted %d", what, b,
+              p->body_count[b], counts[b]);
+}
+
+static void test_oscillating_plate(test_counts *c) {
+    char path[1024];
+    case_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "load: %s", err.msg);
+    if (st != SPH_OK) return;
+    sph_particles p;
+    st = sph_particles_generate(&s, &p, &err);
+    CHECK(c, st == SPH_OK, "generate: %s", err.msg);
+    if (st != SPH_OK) return;
+    /* beam 130 x 10 + clamp base 34 x 18 - their overlap 30 x 10 = 1612;
+     * fixed: base - beam = 612 - 300 = 312 */
+    CHECK(c, p.n == 1612, "n = %d", p.n);
+    CHECK(c, p.dim == 2, "dim");
+    CHECK(c, p.fixed != NULL && p.fixed_count == 312, "fixed_count = %d", p.fixed_count);
+    CHECK(c, p.body_count[0] == 1612, "body_count[0] = %d", p.body_count[0]);
+    check_bookkeeping(c, &p, &s, "plate");
+
+    int fixed = 0;
+    bool fixed_at_rest = true, fixed_in_clamp = true;
+    for (int i = 0; i < p.n; i++) {
+        if (!p.fixed[i]) continue;
+        fixed++;
+        fixed_at_rest &= p.vel[i] == 0.0 && p.vel[(size_t)p.n + (size_t)i] == 0.0;
+        double x[3] = {p.pos[i], p.pos[(size_t)p.n + (size_t)i], 0.0};
+        fixed_in_clamp &= sph_shape_contains(&s, 3, x);
+    }
+    CHECK(c, fixed == p.fixed_count, "flags = count");
+    CHECK(c, fixed_at_rest, "the clamp starts at rest (s <= 0)");
+    CHECK(c, fixed_in_clamp, "fixed particles lie in the clamp region");
+
+    /* first particle: lower-left corner of the lattice, origin + dp/2 */
+    CHECK_NEAR(c, p.pos[0], -0.068 + 0.001, 1e-15, "x[0]");
+    CHECK_NEAR(c, p.pos[p.n], -0.018 + 0.001, 1e-15, "y[0]");
+    CHECK(c, p.pos[1] > p.pos[0] && p.pos[p.n + 1] == p.pos[p.n], "x runs fastest");
+
+    moments m = compute_moments(&p);
+    if (getenv("SPH_TEST_VERBOSE")) printf("plate KE0 %.17g, max vy %.17g\n", m.ke, m.max_speed[1]);
+    CHECK(c, fabs(m.ke - 4.0647984104106447) <= 1e-6 * 4.0647984104106447,
+          "KE0 = %.17g J/m, reference 4.0647984104106447", m.ke);
+    /* v_y(L) = 0.05 c0; the last column sits at x = 0.199, just short of L */
+    double c0 = sqrt(2e6 / (3 * (1 - 2 * 0.3975) * 1000.0));
+    CHECK(c, m.max_speed[1] <= 0.05 * c0 && m.max_speed[1] >= 0.99 * 0.05 * c0,
+          "max |v_y| = %.10g, 0.05 c0 = %.10g", m.max_speed[1], 0.05 * c0);
+    CHECK(c, m.max_speed[0] == 0.0, "no v_x");
+    size_t tip = nearest(&p, 0.199, 0.009);
+    CHECK(c, fabs(p.vel[(size_t)p.n + tip]) == m.max_speed[1], "fastest at the tip");
+    sph_particles_free(&p);
+    CHECK(c, p.pos == NULL && p.n == 0, "free clears");
+    sph_particles_free(&p);
+    sph_scene_free(&s);
+
+    /* H/dp = 30 (003 Table 1): beam 390 x 30 = 11700; base (90 + 4) x (30 + 8)
+     * = 3572; overlap 90 x 30 = 2700; total 11700 + 3572 - 2700 = 12572;
+     * fixed 3572 - 2700 = 872 */
+    const char *ratio[] = {"resolution.ratio=30"};
+    st = sph_scene_load(&s, path, ratio, 1, &err);
+    CHECK(c, st == SPH_OK, "load ratio 30: %s", err.msg);
+    if (st != SPH_OK) return;
+    st = sph_particles_generate(&s, &p, &err);
+    CHECK(c, st == SPH_OK, "generate ratio 30: %s", err.msg);
+    if (st == SPH_OK) {
+        CHECK(c, p.n == 12572, "n = %d", p.n);
+        CHECK(c, p.fixed_count == 872, "fixed_count = %d", p.fixed_count);
+        CHECK(c, p.body_count[0] == 12572, "body_count[0]");
+        check_bookkeeping(c, &p, &s, "plate H/dp = 30");
+    }
+    sph_particles_free(&p);
+    sph_scene_free(&s);
+}
+
+static void test_spinning_plate(test_counts *c) {
+    char path[1024];
+    case_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "load: %s", err.msg);
+    if (st != SPH_OK) return;
+    sph_particles p;
+    st = sph_particles_generate(&s, &p, &err);
+    CHECK(c, st == SPH_OK, "generate: %s", err.msg);
+    if (st != SPH_OK) return;
+    CHECK(c, p.n == 400, "20 x 20 = 400, got %d", p.n);
+    CHECK(c, p.fixed == NULL && p.fixed_count == 0, "no constraints, no fixed flags");
+    check_bookkeeping(c, &p, &s, "square");
+    /* m = 1100 * 0.05^2 = 2.75; sum of r^2 over the lattice = 2 * 20 *
+     * 2 * 0.05^2 * sum_{k<10} (k + 1/2)^2 = 66.5; KE0 = m w^2 66.5 / 2,
+     * Lz = m w 66.5 = 2 KE0 / w */
+    moments m = compute_moments(&p);
+    CHECK(c, fabs(m.ke - 228593.75) <= 1e-9 * 228593.75, "KE0 = %.17g", m.ke);
+    CHECK(c, hypot(m.p[0], m.p[1]) < 1e-9, "|P| = %g", hypot(m.p[0], m.p[1]));
+    CHECK(c, fabs(m.lz - 9143.75) <= 1e-9 * 9143.75, "Lz = %.17g", m.lz);
+    CHECK(c, fabs(m.lz - 2 * m.ke / 50.0) <= 1e-9 * m.lz, "Lz = 2 KE0 / omega");
+    sph_particles_free(&p);
+    sph_scene_free(&s);
+}
+
+static const char CUBE[] =
+    "dimension = 3;\n"
+    "resolution = { dp = 0.1; };\n"
+    "method = { formulation = \"enog-a\"; };\n"
+    "time = { end = 0.1; output_interval = 0.01; };\n"
+    "materials = { m = { density = 1000.0; youngs_modulus = 1.0e6; poisson_ratio = 0.3; }; };\n"
+    "shapes = { cube = { type = \"box\"; lower = [-0.5, -0.5, -0.5]; upper = [0.5, 0.5, 0.5]; "
+    "}; };\n"
+    "bodies = ( { name = \"cube\"; material = \"m\"; shape = \"cube\";\n"
+    "  initial_velocity = { type = \"rigid_rotation\"; omega = [0.0, 0.0, 50.0]; }; } );\n";
+
+static void test_cube(test_counts *c) {
+    char path[1024];
+    write_temp(CUBE, path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "load cube: %s", err.msg);
+    if (st != SPH_OK) return;
+    sph_particles p;
+    st = sph_particles_generate(&s, &p, &err);
+    CHECK(c, st == SPH_OK, "generate cube: %s", err.msg);
+    if (st != SPH_OK) return;
+    CHECK(c, p.n == 1000 && p.dim == 3, "10^3 = 1000, got %d", p.n);
+    check_bookkeeping(c, &p, &s, "cube");
+    /* m = 1000 * 0.1^3 = 1; sum over the lattice of x^2 + y^2 = 2 * 100 *
+     * 2 * 0.1^2 * sum_{k<5} (k + 1/2)^2 = 165: KE0 = 50^2 165 / 2 = 206250,
+     * Lz = 50 * 165 = 8250; no motion along the axis */
+    moments m = compute_moments(&p);
+    CHECK(c, fabs(m.ke - 206250.0) <= 1e-9 * 206250.0, "KE0 = %.17g", m.ke);
+    CHECK(c, fabs(m.lz - 8250.0) <= 1e-9 * 8250.0, "Lz = %.17g", m.lz);
+    CHECK(c, m.max_speed[2] == 0.0, "v_z = 0");
+    CHECK(c, fabs(m.p[0]) < 1e-9 && fabs(m.p[1]) < 1e-9, "P = 0");
+    /* z outermost: the first 100 particles form the bottom layer */
+    bool layer = true;
+    for (int i = 0; i < 100; i++) layer &= p.pos[2 * (size_t)p.n + (size_t)i] == -0.45;
+    CHECK(c, layer && p.pos[2 * (size_t)p.n + 100] > -0.45, "z runs slowest");
+    sph_particles_free(&p);
+    sph_scene_free(&s);
+}
+
+/* Two overlapping bodies: the first in scene order owns the shared points. */
+static const char TWO[] =
+    "dimension = 2;\n"
+    "resolution = { dp = 0.1; };\n"
+    "method = { formulation = \"enog\"; };\n"
+    "time = { end = 0.1; output_interval = 0.01; };\n"
+    "materials = { a = { density = 1000.0; youngs_modulus = 1.0e6; poisson_ratio = 0.3; };\n"
+    "              b = { density = 2000.0; youngs_modulus = 1.0e6; poisson_ratio = 0.3; }; };\n"
+    "shapes = { left = { type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n"
+    "           right = { type = \"box\"; lower = [0.5, 0.0]; upper = [1.5, 1.0]; };\n"
+    "           edge = { type = \"box\"; lower = [1.4, 0.0]; upper = [1.5, 1.0]; }; };\n"
+    "bodies = ( { name = \"l\"; material = \"a\"; shape = \"left\"; },\n"
+    "           { name = \"r\"; material = \"b\"; shape = \"right\";\n"
+    "             initial_velocity = { type = \"uniform\"; vector = [1.0, -2.0]; };\n"
+    "             constraints = ( { type = \"fixed\"; region = \"edge\"; } ); } );\n";
+
+static void test_two_bodies(test_counts *c) {
+    char path[1024];
+    write_temp(TWO, path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "load two bodies: %s", err.msg);
+    if (st != SPH_OK) return;
+    sph_particles p;
+    st = sph_particles_generate(&s, &p, &err);
+    CHECK(c, st == SPH_OK, "generate two bodies: %s", err.msg);
+    if (st == SPH_OK) {
+        /* left: 10 x 10; right: 10 x 10 of which 5 x 10 belong to left */
+        CHECK(c, p.n == 150 && p.body_count[0] == 100 && p.body_count[1] == 50,
+              "n %d, counts %d %d", p.n, p.body_count[0], p.body_count[1]);
+        /* one column of the right body is fixed; flags exist for every body */
+        CHECK(c, p.fixed && p.fixed_count == 10, "fixed_count %d", p.fixed_count);
+        check_bookkeeping(c, &p, &s, "two bodies");
+        const size_t n = (size_t)p.n;
+        bool ok = true;
+        for (size_t i = 0; i < n; i++) {
+            if (p.body[i] == 1)
+                ok &= p.pos[i] > 1.0 && p.vel[i] == 1.0 && p.vel[n + i] == -2.0 &&
+                      fabs(p.mass[i] - 20.0) < 1e-12;
+            else
+                ok &= p.vel[i] == 0.0 && p.fixed[i] == 0;
+        }
+        CHECK(c, ok, "ownership, uniform velocity, per-body material");
+    }
+    sph_particles_free(&p);
+    sph_scene_free(&s);
+
+    /* a user lattice origin shifts the grid, here by a quarter spacing */
+    const char *origin[] = {"lattice_origin=[0.025, 0.0]"};
+    st = sph_scene_load(&s, path, origin, 1, &err);
+    CHECK(c, st == SPH_OK, "lattice origin: %s", err.msg);
+    if (st == SPH_OK && sph_particles_generate(&s, &p, &err) == SPH_OK) {
+        /* centres at x = 0.075, 0.175, ...: 10 columns in [0, 1], 5 more in (1, 1.5] */
+        CHECK(c, p.n == 150 && fabs(p.pos[0] - 0.075) < 1e-12, "n %d, x0 %g", p.n, p.pos[0]);
+        sph_particles_free(&p);
+    }
+    sph_scene_free(&s);
+
+    /* replacing a list element keeps its place in the list */
+    const char *replace[] = {"bodies.[0]={ name = \"l2\"; material = \"a\"; shape = \"left\"; }"};
+    st = sph_scene_load(&s, path, replace, 1, &err);
+    CHECK(c,
+          st == SPH_OK && strcmp(s.bodies[0].name, "l2") == 0 && strcmp(s.bodies[1].name, "r") == 0,
+          "replaced body 0: %s", err.msg);
+    if (st == SPH_OK && sph_particles_generate(&s, &p, &err) == SPH_OK) {
+        CHECK(c, p.body_count[0] == 100 && p.body_count[1] == 50, "same ownership");
+        sph_particles_free(&p);
+    }
+    sph_scene_free(&s);
+
+    /* a body entirely covered by an earlier one has no particles */
+    const char *hidden[] = {"bodies.r.shape=\"edge\"", "bodies.l.shape=right"};
+    st = sph_scene_load(&s, path, hidden, 2, &err);
+    CHECK(c, st == SPH_OK, "hidden: %s", err.msg);
+    if (st == SPH_OK) {
+        st = sph_particles_generate(&s, &p, &err);
+        CHECK(c,
+              st == SPH_ERR_INPUT && strstr(err.msg, "bodies.r") && strstr(err.msg, "no particles"),
+              "empty body: status %d, '%s'", st, err.msg);
+        CHECK(c, p.pos == NULL && p.n == 0, "nothing allocated on failure");
+    }
+    sph_scene_free(&s);
+}
+
+static void test_velocity_fields(test_counts *c) {
+    sph_scene s;
+    memset(&s, 0, sizeof s);
+    s.dim = 2;
+    s.nmaterials = 1;
+    s.materials[0].sound_speed = 10.0;
+    sph_body b;
+    memset(&b, 0, sizeof b);
+    b.velocity.type = SPH_VELOCITY_CANTILEVER_MODE;
+    b.velocity.amplitude_c0 = 0.1;
+    b.velocity.length = 2.0;
+    b.velocity.kl = 1.875;
+    b.velocity.clamp_x = 1.0;
+    b.velocity.axis = 1;
+    double v[3], x[3] = {3.0, 0.5, 0.0};
+    /* at the free end s = L: v = amplitude c0 exactly */
+    sph_velocity_field_eval(&s, &b, x, v);
+    CHECK_NEAR(c, v[1], 1.0, 1e-12, "cantilever tip");
+    CHECK(c, v[0] == 0.0, "only the chosen axis");
+    x[0] = 0.5; /* behind the clamp */
+    sph_velocity_field_eval(&s, &b, x, v);
+    CHECK(c, v[1] == 0.0, "at rest behind the clamp");
+    x[0] = 2.0; /* mid-span: the mode is below the tip value and positive */
+    sph_velocity_field_eval(&s, &b, x, v);
+    CHECK(c, v[1] > 0.0 && v[1] < 1.0, "mid-span %g", v[1]);
+
+    b.velocity.type = SPH_VELOCITY_RIGID_ROTATION;
+    b.velocity.omega[2] = 2.0;
+    b.velocity.centre[0] = 1.0;
+    x[0] = 1.0;
+    x[1] = 3.0;
+    sph_velocity_field_eval(&s, &b, x, v);
+    CHECK(c, v[0] == -6.0 && v[1] == 0.0, "2D rotation (%g, %g)", v[0], v[1]);
+    s.dim = 3;
+    b.velocity.omega[0] = 1.0;
+    b.velocity.omega[2] = 0.0;
+    x[2] = 4.0;
+    sph_velocity_field_eval(&s, &b, x, v); /* (1,0,0) x (0,3,4) = (0,-4,3) */
+    CHECK(c, v[0] == 0.0 && v[1] == -4.0 && v[2] == 3.0, "3D rotation");
+}
+
+int main(void) {
+    test_counts c = {0, 0};
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/test_particles.XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 2;
+    }
+    test_oscillating_plate(&c);
+    test_spinning_plate(&c);
+    test_cube(&c);
+    test_two_bodies(&c);
+    test_velocity_fields(&c);
+    for (int i = 0; i < ntmp; i++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/scene%d.cfg", tmpdir, i);
+        unlink(path);
+    }
+    rmdir(tmpdir);
+    return test_summary("test_particles", &c);
+}

@@ -1,0 +1,584 @@
+/* test_scene — scene loading, overrides and error reporting (host/scene.c).
+ *
+ * The two shipped cases must load with the values their files state; the
+ * derived material constants follow 000 eq. 5 (c0 = sqrt(E / (3 (1 - 2 nu)
+ * rho0))); every kind of bad input is rejected with SPH_ERR_INPUT and a
+ * message that names the file, the line and the key path (or the override). */
+#include "scene.h"
+#include "test_util.h"
+
+#include <stdbool.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+static int ntmp;
+
+/* Write `text` to a fresh file in the test's temporary directory. */
+static void write_temp(const char *text, char *path, size_t size) {
+    snprintf(path, size, "%s/scene%d.cfg", tmpdir, ntmp++);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        perror(path);
+        exit(2);
+    }
+    fputs(text, f);
+    fclose(f);
+}
+
+static void case_path(const char *rel, char *path, size_t size) {
+    const char *root = getenv("SPHSOLID_SOURCE_DIR");
+    snprintf(path, size, "%s/%s", root ? root : ".", rel);
+}
+
+static bool near_rel(double a, double b, double rel) {
+    return fabs(a - b) <= rel * fabs(b);
+}
+
+static void test_oscillating_plate(test_counts *c) {
+    char path[1024];
+    case_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "load %s: %s", path, err.msg);
+    if (st != SPH_OK) return;
+    CHECK(c, s.dim == 2, "dim %d", s.dim);
+    CHECK(c, strcmp(s.title, "2D oscillating plate") == 0, "title '%s'", s.title);
+    /* dp = H / ratio = 0.02 / 10 */
+    CHECK(c, near_rel(s.dp, 0.002, 1e-15), "dp %.17g", s.dp);
+    CHECK_NEAR(c, s.smoothing_ratio, 1.3, 0.0, "smoothing_ratio");
+    CHECK(c, s.kernel == SPH_KERNEL_WENDLAND_C2, "kernel");
+    CHECK(c, s.formulation == SPH_FORMULATION_ENOG_A, "formulation %d", s.formulation);
+    CHECK(c, s.rotation == SPH_ROTATION_AVERAGED, "rotation %d", s.rotation);
+    CHECK(c, s.stepping == SPH_STEPPING_DUAL, "stepping %d", s.stepping);
+    CHECK_NEAR(c, s.end_time, 1.0, 0.0, "end");
+    CHECK_NEAR(c, s.output_interval, 0.01, 0.0, "output_interval");
+    CHECK_NEAR(c, s.cfl_advection, 0.2, 0.0, "cfl_advection");
+    CHECK_NEAR(c, s.cfl_acoustic, 0.4, 0.0, "cfl_acoustic");
+    /* defaults: xi_e = 0.7 d + 2.1, unlimited Riemann dissipation */
+    CHECK_NEAR(c, s.xi_e, 3.5, 1e-15, "xi_e default");
+    CHECK_NEAR(c, s.riemann_limiter_slope, 0.0, 0.0, "riemann_limiter default");
+    CHECK(c, !s.has_reference_speed, "has_reference_speed");
+    CHECK(c, s.acceleration_criterion, "acceleration_criterion default");
+    CHECK(c, !s.has_lattice_origin, "has_lattice_origin");
+    CHECK(c, s.gravity[0] == 0.0 && s.gravity[1] == 0.0, "gravity default");
+
+    CHECK(c, s.nmaterials == 1, "nmaterials %d", s.nmaterials);
+    const sph_material *m = &s.materials[0];
+    CHECK(c, strcmp(m->name, "plate") == 0, "material name '%s'", m->name);
+    /* c0 = sqrt(2e6 / (3 (1 - 2 * 0.3975) 1000)) = 57.0266 */
+    CHECK(c, near_rel(m->sound_speed, 57.0266, 1e-4), "c0 %.10g", m->sound_speed);
+    CHECK(c, near_rel(m->shear_modulus, 2e6 / (2 * 1.3975), 1e-14), "G %.10g", m->shear_modulus);
+    CHECK(c, near_rel(m->bulk_modulus, m->density * m->sound_speed * m->sound_speed, 1e-14),
+          "K = rho0 c0^2: %.10g", m->bulk_modulus);
+
+    CHECK(c, s.nshapes == 4, "nshapes %d", s.nshapes);
+    CHECK(c, strcmp(s.shapes[1].name, "base") == 0 && s.shapes[1].type == SPH_SHAPE_BOX, "shape 1");
+    /* the base grown by 4 dp left, down and up */
+    CHECK(c, near_rel(s.shapes[1].lower[0], -0.068, 1e-14), "base lower x %.17g",
+          s.shapes[1].lower[0]);
+    CHECK(c, near_rel(s.shapes[1].lower[1], -0.018, 1e-14), "base lower y");
+    CHECK(c, near_rel(s.shapes[1].upper[1], 0.018, 1e-14), "base upper y");
+    CHECK(c, s.shapes[1].upper[0] == 0.0, "base upper x");
+    CHECK(c,
+          s.shapes[2].type == SPH_SHAPE_UNION && s.shapes[2].nparts == 2 &&
+              s.shapes[2].parts[0] == 0 && s.shapes[2].parts[1] == 1,
+          "plate = union(beam, base)");
+    CHECK(c,
+          s.shapes[3].type == SPH_SHAPE_DIFFERENCE && s.shapes[3].parts[0] == 1 &&
+              s.shapes[3].parts[1] == 0,
+          "clamp = base - beam");
+
+    CHECK(c, s.nbodies == 1, "nbodies %d", s.nbodies);
+    const sph_body *b = &s.bodies[0];
+    CHECK(c, strcmp(b->name, "plate") == 0 && b->material == 0 && b->shape == 2, "body");
+    CHECK(c, b->velocity.type == SPH_VELOCITY_CANTILEVER_MODE, "velocity type");
+    CHECK_NEAR(c, b->velocity.amplitude_c0, 0.05, 0.0, "amplitude_c0");
+    CHECK_NEAR(c, b->velocity.length, 0.2, 0.0, "length");
+    CHECK_NEAR(c, b->velocity.kl, 1.875, 0.0, "kl");
+    CHECK(c, b->velocity.axis == 1, "axis %d", b->velocity.axis);
+    CHECK(c,
+          b->nconstraints == 1 && b->constraints[0].type == SPH_CONSTRAINT_FIXED &&
+              b->constraints[0].region == 3,
+          "clamp constraint");
+    CHECK(c, s.nobservers == 1 && strcmp(s.observers[0].name, "tip") == 0, "observer");
+    CHECK(c, s.observers[0].position[0] == 0.2 && s.observers[0].position[1] == 0.0,
+          "observer position");
+    CHECK(c, s.period_observer == 0 && s.period_axis == 1, "period observer %d axis %d",
+          s.period_observer, s.period_axis);
+
+    /* geometry: the plate is beam + base, the clamp is base - beam */
+    double mid[3] = {0.1, 0.0, 0.0}, root[3] = {-0.03, 0.0, 0.0}, pad[3] = {-0.065, 0.0, 0.0},
+           above[3] = {0.1, 0.015, 0.0}, cap[3] = {-0.03, 0.015, 0.0};
+    CHECK(c, sph_shape_contains(&s, 2, mid) && !sph_shape_contains(&s, 3, mid), "mid-span");
+    CHECK(c, sph_shape_contains(&s, 2, root) && !sph_shape_contains(&s, 3, root), "inserted part");
+    CHECK(c, sph_shape_contains(&s, 2, pad) && sph_shape_contains(&s, 3, pad), "clamp pad");
+    CHECK(c, !sph_shape_contains(&s, 2, above), "above the free span");
+    CHECK(c, sph_shape_contains(&s, 3, cap), "clamp layer above the inserted part");
+    double lo[3], hi[3];
+    sph_shape_bounds(&s, 2, lo, hi);
+    CHECK(c, near_rel(lo[0], -0.068, 1e-14) && hi[0] == 0.2 && near_rel(hi[1], 0.018, 1e-14),
+          "union bounds [%g %g] x [%g %g]", lo[0], hi[0], lo[1], hi[1]);
+    sph_shape_bounds(&s, 3, lo, hi);
+    CHECK(c, hi[0] == 0.0, "difference bounds = bounds of the first part");
+
+    CHECK(c, s.resolved_text && strstr(s.resolved_text, "youngs_modulus"), "resolved_text");
+    sph_scene_free(&s);
+    CHECK(c, s.resolved_text == NULL, "free clears resolved_text");
+    sph_scene_free(&s); /* twice is harmless */
+}
+
+static void test_spinning_plate(test_counts *c) {
+    char path[1024];
+    case_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "load %s: %s", path, err.msg);
+    if (st != SPH_OK) return;
+    CHECK(c, s.dim == 2 && s.dp == 0.05, "dim %d dp %g", s.dim, s.dp);
+    CHECK(c, s.formulation == SPH_FORMULATION_ENOG_A && s.rotation == SPH_ROTATION_AVERAGED,
+          "method");
+    CHECK(c, s.stepping == SPH_STEPPING_SINGLE, "stepping");
+    CHECK_NEAR(c, s.cfl_acoustic, 0.1, 0.0, "cfl_acoustic");
+    CHECK_NEAR(c, s.cfl_advection, 0.2, 0.0, "cfl_advection default");
+    CHECK_NEAR(c, s.end_time, 0.5, 0.0, "end");
+    CHECK(c, s.nshapes == 1 && s.nbodies == 1, "tables");
+    /* rubber: c0 = sqrt(1.7e7 / (3 (1 - 0.9) 1100)) */
+    CHECK(c, near_rel(s.materials[0].sound_speed, sqrt(1.7e7 / (0.3 * 1100.0)), 1e-14), "c0");
+    const sph_velocity_field *v = &s.bodies[0].velocity;
+    CHECK(c, v->type == SPH_VELOCITY_RIGID_ROTATION && v->omega[2] == 50.0 && v->omega[0] == 0.0,
+          "rigid rotation at 50 rad/s about z");
+    CHECK(c, s.nobservers == 1 && s.period_observer == -1, "no period analysis");
+    sph_scene_free(&s);
+}
+
+static void test_overrides(test_counts *c) {
+    char path[1024];
+    case_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+
+    const char *ratio[] = {"resolution.ratio=30"};
+    sph_status st = sph_scene_load(&s, path, ratio, 1, &err);
+    CHECK(c, st == SPH_OK, "ratio=30: %s", err.msg);
+    if (st == SPH_OK) {
+        CHECK(c, s.dp == 0.02 / 30.0, "dp %.17g", s.dp);
+        CHECK(c, strstr(s.resolved_text, "ratio = 30;") != NULL, "resolved text records it");
+        /* padding follows dp: base lower x = -0.06 - 4 dp */
+        CHECK(c, near_rel(s.shapes[1].lower[0], -0.06 - 4 * 0.02 / 30.0, 1e-14), "padding");
+    }
+    sph_scene_free(&s);
+
+    const char *enog[] = {"method.formulation=enog", "method.rotation=none"};
+    st = sph_scene_load(&s, path, enog, 2, &err);
+    CHECK(c, st == SPH_OK, "enog: %s", err.msg);
+    CHECK(c, s.formulation == SPH_FORMULATION_ENOG && s.rotation == SPH_ROTATION_NONE,
+          "enog, none");
+    sph_scene_free(&s);
+
+    /* element of a list addressed by its name, and by its index */
+    const char *amp[] = {"bodies.plate.initial_velocity.amplitude_c0=0.01", "time.end=0.5"};
+    st = sph_scene_load(&s, path, amp, 2, &err);
+    CHECK(c, st == SPH_OK, "amplitude: %s", err.msg);
+    CHECK_NEAR(c, s.bodies[0].velocity.amplitude_c0, 0.01, 0.0, "amplitude_c0 override");
+    CHECK_NEAR(c, s.end_time, 0.5, 0.0, "end override");
+    sph_scene_free(&s);
+    const char *amp_idx[] = {"bodies.[0].initial_velocity.amplitude_c0=0.02"};
+    st = sph_scene_load(&s, path, amp_idx, 1, &err);
+    CHECK(c, st == SPH_OK && s.bodies[0].velocity.amplitude_c0 == 0.02, "by index: %s", err.msg);
+    sph_scene_free(&s);
+
+    /* one element of an array; an integer joins an array of decimals */
+    const char *elem[] = {"shapes.base.lower_pad_dp.[1]=5"};
+    st = sph_scene_load(&s, path, elem, 1, &err);
+    CHECK(c, st == SPH_OK && near_rel(s.shapes[1].lower[1], -0.01 - 5 * 0.002, 1e-14),
+          "array element replaced, int promoted: %s", err.msg);
+    CHECK(c, st != SPH_OK || strstr(s.resolved_text, "lower_pad_dp = [ 4.0, 5.0 ]"),
+          "promoted to a decimal in the resolved text");
+    sph_scene_free(&s);
+
+    /* later overrides win; aggregates replace and create; strings in quotes */
+    const char *more[] = {"time.end=0.7",
+                          "time.end=0.8",
+                          "gravity=[0.0, -9.81]",
+                          "shapes.beam.upper=(0.3, 0.01)",
+                          "title=\"sweep run\"",
+                          "bodies.plate.initial_velocity={ type = \"zero\"; }",
+                          "method.xi_e=4",
+                          "shapes.base.lower_pad_dp.[1]=5",
+                          "time.acceleration_criterion=false",
+                          ("shapes.base={ type = \"box\"; lower = [-0.06, -0.01]; "
+                           "upper = [0.0, 0.01]; lower_pad_dp = [4.0, 6.0]; }")};
+    st = sph_scene_load(&s, path, more, (int)(sizeof more / sizeof more[0]), &err);
+    CHECK(c, st == SPH_OK, "more: %s", err.msg);
+    if (st == SPH_OK) {
+        CHECK_NEAR(c, s.end_time, 0.8, 0.0, "last override wins");
+        CHECK(c, s.gravity[0] == 0.0 && s.gravity[1] == -9.81, "gravity created");
+        CHECK(c, s.shapes[0].upper[0] == 0.3, "list replaces array");
+        CHECK(c, strcmp(s.title, "sweep run") == 0, "title '%s'", s.title);
+        CHECK(c, s.bodies[0].velocity.type == SPH_VELOCITY_ZERO, "group replaced");
+        CHECK_NEAR(c, s.xi_e, 4.0, 0.0, "int accepted for a float");
+        CHECK(c, near_rel(s.shapes[1].lower[1], -0.01 - 6 * 0.002, 1e-14),
+              "the later group replacement wins over the element override: %.17g",
+              s.shapes[1].lower[1]);
+        CHECK(c, !s.acceleration_criterion, "bool");
+        CHECK(c, strcmp(s.shapes[1].name, "base") == 0 && s.shapes[1].upper[1] == 0.01,
+              "a replaced group keeps its place: shapes[1] = '%s'", s.shapes[1].name);
+        /* the order of the group is kept when a member is replaced */
+        const char *beam = strstr(s.resolved_text, "beam");
+        const char *base = strstr(s.resolved_text, "base");
+        CHECK(c, beam && base && beam < base, "shape order kept");
+    }
+
+    /* the resolved text is a loadable scene with the same content */
+    if (st == SPH_OK) {
+        char copy[1024];
+        write_temp(s.resolved_text, copy, sizeof copy);
+        sph_scene r;
+        sph_status rst = sph_scene_load(&r, copy, NULL, 0, &err);
+        CHECK(c, rst == SPH_OK, "reload resolved text: %s", err.msg);
+        if (rst == SPH_OK) {
+            CHECK(c,
+                  r.end_time == 0.8 && r.gravity[1] == -9.81 && r.dp == s.dp &&
+                      r.nshapes == s.nshapes,
+                  "round trip");
+            sph_scene_free(&r);
+        }
+    }
+    sph_scene_free(&s);
+}
+
+/* A small valid scene; each bad-input row edits one part of it. */
+static const char BASE[] =
+    "# test scene\n"                                                                   /*  1 */
+    "dimension = 2;\n"                                                                 /*  2 */
+    "resolution = { dp = 0.1; };\n"                                                    /*  3 */
+    "method = { formulation = \"enog-a\"; rotation = \"averaged\"; };\n"               /*  4 */
+    "time = { end = 1.0; output_interval = 0.1; };\n"                                  /*  5 */
+    "materials = {\n"                                                                  /*  6 */
+    "  steel = { density = 7800.0; youngs_modulus = 2.0e11; poisson_ratio = 0.3; };\n" /*  7 */
+    "};\n"                                                                             /*  8 */
+    "shapes = {\n"                                                                     /*  9 */
+    "  block = { type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n"         /* 10 */
+    "};\n"                                                                             /* 11 */
+    "bodies = (\n"                                                                     /* 12 */
+    "  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n"                   /* 13 */
+    ");\n";                                                                            /* 14 */
+
+typedef struct {
+    const char *what;
+    const char *find, *replace; /* edit of BASE; find NULL: BASE as is */
+    const char *set;            /* one override, or NULL */
+    const char *expect;         /* must appear in err.msg; %F stands for the file */
+} bad_row;
+
+static const bad_row BAD[] = {
+    {"syntax error", "dp = 0.1;", "dp = = 0.1;", NULL, "%F:3: syntax error"},
+    {"mixed int/float array", "lower = [0.0, 0.0]", "lower = [0, 0.0]", NULL,
+     "%F:10: syntax error: mismatched element type in array"},
+    {"mixed array hint", "lower = [0.0, 0.0]", "lower = [0, 0.0]", NULL, "0.0, not 0"},
+    {"unknown key, suggestion", "youngs_modulus", "youngs_modulous", NULL,
+     "%F:7: materials.steel.youngs_modulous: unknown key 'youngs_modulous' (did you mean "
+     "'youngs_modulus'?)"},
+    {"unknown top-level key", "dimension = 2;", "dimension = 2; gravty = [0.0, 1.0];", NULL,
+     "%F:2: gravty: unknown key 'gravty' (did you mean 'gravity'?)"},
+    {"unknown key far from any", "end = 1.0;", "end = 1.0; qqqqqqqq = 1;", NULL,
+     "%F:5: time.qqqqqqqq: unknown key 'qqqqqqqq' (valid keys here: end, output_interval"},
+    {"E = 0", "youngs_modulus = 2.0e11", "youngs_modulus = 0.0", NULL,
+     "%F:7: materials.steel.youngs_modulus: must be > 0, got 0"},
+    {"E < 0", "youngs_modulus = 2.0e11", "youngs_modulus = -2.0e11", NULL,
+     "%F:7: materials.steel.youngs_modulus: must be > 0, got -2e+11"},
+    {"nu = 0.5", "poisson_ratio = 0.3", "poisson_ratio = 0.5", NULL,
+     "%F:7: materials.steel.poisson_ratio: must be in [0, 0.5), got 0.5"},
+    {"nu < 0", "poisson_ratio = 0.3", "poisson_ratio = -0.1", NULL,
+     "%F:7: materials.steel.poisson_ratio: must be in [0, 0.5), got -0.1"},
+    {"density = 0", "density = 7800.0", "density = 0", NULL,
+     "%F:7: materials.steel.density: must be > 0, got 0"},
+    {"dp = 0", "dp = 0.1", "dp = 0.0", NULL, "%F:3: resolution.dp: must be > 0, got 0"},
+    {"dp < 0", "dp = 0.1", "dp = -0.1", NULL, "%F:3: resolution.dp: must be > 0, got -0.1"},
+    {"ratio = 0", "dp = 0.1", "reference_length = 1.0; ratio = 0", NULL,
+     "%F:3: resolution.ratio: must be > 0, got 0"},
+    {"reference_length without ratio", "dp = 0.1", "reference_length = 1.0", NULL,
+     "%F:3: resolution.ratio: missing required key"},
+    {"both resolution forms", "dp = 0.1;", "dp = 0.1; ratio = 10.0;", NULL,
+     "%F:3: resolution: give either dp or reference_length and ratio"},
+    {"no resolution", "dp = 0.1;", "", NULL, "%F:3: resolution: missing required key"},
+    {"end = 0", "end = 1.0", "end = 0.0", NULL, "%F:5: time.end: must be > 0, got 0"},
+    {"end < 0", "end = 1.0", "end = -1", NULL, "%F:5: time.end: must be > 0, got -1"},
+    {"output_interval > end", "output_interval = 0.1", "output_interval = 2.0", NULL,
+     "%F:5: time.output_interval: must not exceed time.end (1), got 2"},
+    {"cfl out of range", "end = 1.0;", "end = 1.0; cfl_acoustic = 1.5;", NULL,
+     "%F:5: time.cfl_acoustic: must be in (0, 1], got 1.5"},
+    {"bad stepping", "end = 1.0;", "end = 1.0; stepping = \"triple\";", NULL,
+     "%F:5: time.stepping: must be one of \"dual\", \"single\", got \"triple\""},
+    {"missing material key", "density = 7800.0; ", "", NULL,
+     "%F:7: materials.steel.density: missing required key"},
+    {"missing top-level key", "dimension = 2;\n", "\n", NULL,
+     "%F: dimension: missing required key"},
+    {"missing end", "end = 1.0; ", "", NULL, "%F:5: time.end: missing required key"},
+    {"dimension 4", "dimension = 2;", "dimension = 4;", NULL,
+     "%F:2: dimension: must be 2 or 3, got 4"},
+    {"dimension as float", "dimension = 2;", "dimension = 2.0;", NULL,
+     "%F:2: dimension: expected an integer, got a number"},
+    {"unknown shape in body", "shape = \"block\"", "shape = \"blok\"", NULL,
+     "%F:13: bodies.a.shape: unknown shape 'blok' (did you mean 'block'?)"},
+    {"unknown material", "material = \"steel\"", "material = \"iron\"", NULL,
+     "%F:13: bodies.a.material: unknown material 'iron'"},
+    {"box upper <= lower", "upper = [1.0, 1.0]", "upper = [1.0, 0.0]", NULL,
+     "%F:10: shapes.block.upper: must exceed lower in every component"},
+    {"box negative padding", "upper = [1.0, 1.0];",
+     "upper = [1.0, 1.0]; lower_pad_dp = [0.0, -1.0];", NULL,
+     "%F:10: shapes.block.lower_pad_dp.[1]: padding must be >= 0, got -1"},
+    {"negative upper padding", "upper = [1.0, 1.0];",
+     "upper = [1.0, 1.0]; upper_pad_dp = [-20.0, 0.0];", NULL,
+     "%F:10: shapes.block.upper_pad_dp.[0]: padding must be >= 0"},
+    {"vector of wrong length", "upper = [1.0, 1.0]", "upper = [1.0, 1.0, 1.0]", NULL,
+     "%F:10: shapes.block.upper: expected a vector of 2 numbers, got 3 elements"},
+    {"vector not a vector", "upper = [1.0, 1.0]", "upper = 1.0", NULL,
+     "%F:10: shapes.block.upper: expected a vector of 2 numbers"},
+    {"vector with a string", "upper = [1.0, 1.0]", "upper = (1.0, \"1\")", NULL,
+     "%F:10: shapes.block.upper.[1]: expected a number, got a string"},
+    {"string for a number", "dp = 0.1", "dp = \"small\"", NULL,
+     "%F:3: resolution.dp: expected a number, got a string"},
+    {"number for a string", "formulation = \"enog-a\"", "formulation = 1", NULL,
+     "%F:4: method.formulation: expected a string, got an integer"},
+    {"bad formulation", "\"enog-a\"", "\"enogx\"", NULL,
+     "%F:4: method.formulation: must be one of \"enog\", \"enog-a\", got \"enogx\""},
+    {"enog with rotation averaged", "formulation = \"enog-a\"", "formulation = \"enog\"", NULL,
+     "%F:4: method.rotation: formulation \"enog\" has no rotation correction"},
+    {"enog-a with rotation none", "rotation = \"averaged\"", "rotation = \"none\"", NULL,
+     "%F:4: method.rotation: formulation \"enog-a\" needs a rotation correction"},
+    {"smoothing ratio out of range", "rotation = \"averaged\";",
+     "rotation = \"averaged\"; smoothing_ratio = 2.5;", NULL,
+     "%F:4: method.smoothing_ratio: must be in [1, 2], got 2.5"},
+    {"duplicate body name", "shape = \"block\"; }\n",
+     "shape = \"block\"; },\n  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n", NULL,
+     "%F:14: bodies.[1].name: duplicate body name 'a'"},
+    {"bodies not a list",
+     "bodies = (\n  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n);",
+     "bodies = {\n  a = { name = \"a\"; material = \"steel\"; shape = \"block\"; };\n};", NULL,
+     "%F:12: bodies: expected a list ( { ... }, ... ), got a group { ... }"},
+    {"no bodies", "  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n", "", NULL,
+     "%F:12: bodies: expected 1 to 8 bodies, got 0"},
+    {"shape cycle", "};\nbodies",
+     "  u = { type = \"union\"; parts = [\"v\"]; };\n"
+     "  v = { type = \"union\"; parts = [\"u\"]; };\n};\nbodies",
+     NULL, "shapes refer to each other in a cycle: 'u' -> 'v' -> 'u'"},
+    {"unknown part", "};\nbodies",
+     "  u = { type = \"union\"; parts = [\"block\", \"blox\"]; };\n};\nbodies", NULL,
+     "%F:11: shapes.u.parts.[1]: unknown shape 'blox'"},
+    {"difference of one part", "};\nbodies",
+     "  d = { type = \"difference\"; parts = [\"block\"]; };\n};\nbodies", NULL,
+     "%F:11: shapes.d.parts: a difference needs at least 2 parts, got 1"},
+    {"bad shape type", "type = \"box\"", "type = \"sphere\"", NULL,
+     "%F:10: shapes.block.type: must be one of \"box\", \"union\", \"difference\""},
+    {"box key on a union", "};\nbodies",
+     "  u = { type = \"union\"; parts = [\"block\"]; lower = [0.0, 0.0]; };\n};\nbodies", NULL,
+     "%F:11: shapes.u.lower: unknown key 'lower' (valid keys here: type, parts)"},
+    {"2D omega as vector", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"rigid_rotation\"; omega = [0.0, 1.0]; };",
+     NULL, "%F:13: bodies.a.initial_velocity.omega: expected a number (the rotation rate about z"},
+    {"axis z in 2D", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"cantilever_mode\"; amplitude_c0 = 0.1; "
+     "length = 1.0; axis = \"z\"; };",
+     NULL, "%F:13: bodies.a.initial_velocity.axis: must be \"x\" or \"y\" in 2D, got \"z\""},
+    {"cantilever without length", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"cantilever_mode\"; amplitude_c0 = 0.1; };",
+     NULL, "%F:13: bodies.a.initial_velocity.length: missing required key"},
+    {"constraint region unknown", "shape = \"block\";",
+     "shape = \"block\"; constraints = ( { type = \"fixed\"; region = \"clampp\"; } );", NULL,
+     "%F:13: bodies.a.constraints.[0].region: unknown shape 'clampp'"},
+    {"period observer unknown", ");\n",
+     ");\nobservers = ( { name = \"tip\"; position = [1.0, 0.5]; } );\n"
+     "analysis = { period = { observer = \"top\"; axis = \"y\"; }; };\n",
+     NULL, "%F:16: analysis.period.observer: unknown observer 'top' (did you mean 'tip'?)"},
+    {"duplicate observer", ");\n",
+     ");\nobservers = ( { name = \"p\"; position = [1.0, 0.5]; },\n"
+     "  { name = \"p\"; position = [0.0, 0.5]; } );\n",
+     NULL, "%F:16: observers.[1].name: duplicate observer name 'p'"},
+    /* overrides */
+    {"--set without '='", NULL, NULL, "time.end", "--set time.end: expected key=value"},
+    {"--set with an empty key", NULL, NULL, "=5", "--set =5: expected key=value"},
+    {"--set to a missing parent", NULL, NULL, "solver.threads=4",
+     "--set solver.threads=4: solver: no such setting"},
+    {"--set through a missing list element", NULL, NULL, "bodies.nobody.material=steel",
+     "--set bodies.nobody.material=steel: bodies.nobody: no such setting"},
+    {"--set through a scalar", NULL, NULL, "dimension.x=1",
+     "--set dimension.x=1: dimension: is an integer, not a group or list"},
+    {"--set invalid value", NULL, NULL, "materials.steel.poisson_ratio=0.5",
+     "--set materials.steel.poisson_ratio=0.5: materials.steel.poisson_ratio: must be in [0, "
+     "0.5), got 0.5"},
+    {"--set unknown key", NULL, NULL, "time.endd=2.0",
+     "--set time.endd=2.0: time.endd: unknown key 'endd' (did you mean 'end'?)"},
+    {"--set bare-word value", NULL, NULL, "method.formulation=bogus",
+     "--set method.formulation=bogus: method.formulation: must be one of"},
+    {"--set formulation without rotation", NULL, NULL, "method.formulation=enog",
+     "--set method.formulation=enog: method.formulation: formulation \"enog\" conflicts with "
+     "method.rotation = \"averaged\" (%F:4); add --set method.rotation=none"},
+    {"--set an aggregate with a bad member", NULL, NULL,
+     "bodies.a.initial_velocity={ type = \"uniform\"; vector = [1.0]; }",
+     "--set bodies.a.initial_velocity={ type = \"uniform\"; vector = [1.0]; }: "
+     "bodies.a.initial_velocity.vector: expected a vector of 2 numbers, got 1 element"},
+    {"--set with an empty key component", NULL, NULL, "time..end=1.0",
+     "--set time..end=1.0: the key has an empty component"},
+    {"--set a mixed array", NULL, NULL, "shapes.block.upper=[1, 1.0]",
+     "--set shapes.block.upper=[1, 1.0]: cannot parse the value: mismatched element type in "
+     "array (write every number of an array as a decimal (0.0, not 0))"},
+    {"--set the other resolution form", NULL, NULL, "resolution.ratio=10",
+     "--set resolution.ratio=10: resolution.ratio: give either dp or reference_length and ratio"},
+    {"--set a string into a float array", NULL, NULL, "shapes.block.upper.[0]=wide",
+     "--set shapes.block.upper.[0]=wide: shapes.block.upper.[0]: every element of this array"},
+};
+
+/* Replace the first `find` in `text` by `replace`. */
+static void edit(const char *text, const char *find, const char *replace, char *out, size_t size) {
+    const char *at = strstr(text, find);
+    if (!at) {
+        fprintf(stderr, "test table: '%s' not in BASE\n", find);
+        exit(2);
+    }
+    snprintf(out, size, "%.*s%s%s", (int)(at - text), text, replace, at + strlen(find));
+}
+
+/* Expand %F to the file name. */
+static void expand(const char *pattern, const char *file, char *out, size_t size) {
+    size_t len = 0;
+    for (const char *p = pattern; *p && len + 1 < size; p++) {
+        if (p[0] == '%' && p[1] == 'F') {
+            len += (size_t)snprintf(out + len, size - len, "%s", file);
+            p++;
+        } else {
+            out[len++] = *p;
+        }
+    }
+    out[len < size ? len : size - 1] = '\0';
+}
+
+static void test_bad_inputs(test_counts *c) {
+    char base_path[1024];
+    write_temp(BASE, base_path, sizeof base_path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, base_path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "the base scene must load: %s", err.msg);
+    sph_scene_free(&s);
+
+    for (size_t i = 0; i < sizeof BAD / sizeof BAD[0]; i++) {
+        const bad_row *row = &BAD[i];
+        char path[1024], text[4096], expect[2048];
+        if (row->find) {
+            edit(BASE, row->find, row->replace, text, sizeof text);
+            write_temp(text, path, sizeof path);
+        } else {
+            snprintf(path, sizeof path, "%s", base_path);
+        }
+        const char *ov[1] = {row->set};
+        memset(&err, 0, sizeof err);
+        st = sph_scene_load(&s, path, ov, row->set ? 1 : 0, &err);
+        expand(row->expect, path, expect, sizeof expect);
+        if (getenv("SPH_TEST_VERBOSE")) printf("%-40s %s\n", row->what, err.msg);
+        CHECK(c, st == SPH_ERR_INPUT, "%s: status %d (message '%s')", row->what, st, err.msg);
+        CHECK(c, err.code == SPH_ERR_INPUT, "%s: err.code %d", row->what, err.code);
+        CHECK(c, strstr(err.msg, expect) != NULL, "%s:\n  got      '%s'\n  expected '%s'",
+              row->what, err.msg, expect);
+        /* a value from an override is reported as the override */
+        if (row->set && strncmp(row->expect, "--set", 5) == 0)
+            CHECK(c, strncmp(err.msg, "--set ", 6) == 0, "%s: '%s' must start with --set",
+                  row->what, err.msg);
+        CHECK(c, s.resolved_text == NULL, "%s: nothing to free after a failure", row->what);
+        CHECK(c, strchr(err.msg, '\n') == NULL, "%s: one line", row->what);
+    }
+
+    /* a missing file */
+    char missing[1024];
+    snprintf(missing, sizeof missing, "%s/no-such.cfg", tmpdir);
+    st = sph_scene_load(&s, missing, NULL, 0, &err);
+    char expect[1100];
+    snprintf(expect, sizeof expect, "%s: cannot read scene file: No such file or directory",
+             missing);
+    CHECK(c, st == SPH_ERR_INPUT && strcmp(err.msg, expect) == 0, "missing file: '%s'", err.msg);
+    st = sph_scene_load(&s, tmpdir, NULL, 0, &err);
+    CHECK(c, st == SPH_ERR_INPUT && strstr(err.msg, "cannot read scene file"), "directory: '%s'",
+          err.msg);
+}
+
+/* Inline shapes, forward references, 3D and optional keys. */
+static void test_features(test_counts *c) {
+    static const char text[] =
+        "dimension = 3;\n"
+        "resolution = { reference_length = 1.0; ratio = 10; };\n"
+        "method = { formulation = \"enog-a\"; rotation = \"per-particle\"; xi_e = 3;\n"
+        "           riemann_limiter = 1.5; smoothing_ratio = 1.5; };\n"
+        "time = { end = 1; output_interval = 1; reference_speed = 2.0;\n"
+        "         acceleration_criterion = false; };\n"
+        "materials = { m = { density = 1000; youngs_modulus = 1e6; poisson_ratio = 0; }; };\n"
+        "shapes = {\n"
+        "  holed = { type = \"difference\";\n"
+        "            parts = ( \"cube\", { type = \"box\"; lower = (0, 0, 0); upper = (0.2, 0.2, "
+        "0.2); } ); };\n"
+        "  cube = { type = \"box\"; lower = [-0.5, -0.5, -0.5]; upper = [0.5, 0.5, 0.5]; };\n"
+        "};\n"
+        "bodies = ( { name = \"b\"; material = \"m\"; shape = \"holed\";\n"
+        "             initial_velocity = { type = \"rigid_rotation\"; omega = [0, 0, 50]; centre = "
+        "[0, 0, 1]; }; } );\n"
+        "gravity = [0.0, 0.0, -9.81];\n"
+        "lattice_origin = [-0.5, -0.5, -0.5];\n";
+    char path[1024];
+    write_temp(text, path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "3D scene: %s", err.msg);
+    if (st != SPH_OK) return;
+    CHECK(c, s.dim == 3 && s.dp == 0.1, "dim, dp = 1/10");
+    CHECK(c, s.rotation == SPH_ROTATION_PER_PARTICLE, "per-particle");
+    CHECK(c, s.xi_e == 3.0 && s.riemann_limiter_slope == 1.5 && s.smoothing_ratio == 1.5,
+          "method values");
+    CHECK(c, s.has_reference_speed && s.reference_speed == 2.0 && !s.acceleration_criterion,
+          "time values");
+    CHECK(c, s.has_lattice_origin && s.lattice_origin[2] == -0.5, "lattice origin");
+    CHECK(c, s.gravity[2] == -9.81, "gravity");
+    CHECK(c, s.materials[0].poisson_ratio == 0.0, "nu = 0 allowed");
+    /* named shapes first, the inline box after them */
+    CHECK(c,
+          s.nshapes == 3 && s.shapes[2].name[0] == '\0' && s.shapes[0].parts[0] == 1 &&
+              s.shapes[0].parts[1] == 2,
+          "inline part appended, forward reference resolved");
+    double in[3] = {-0.25, 0.0, 0.0}, hole[3] = {0.1, 0.1, 0.1};
+    CHECK(c, sph_shape_contains(&s, 0, in) && !sph_shape_contains(&s, 0, hole), "difference");
+    const sph_velocity_field *v = &s.bodies[0].velocity;
+    CHECK(c, v->omega[2] == 50.0 && v->centre[2] == 1.0, "3D rotation");
+    sph_scene_free(&s);
+}
+
+static void test_names(test_counts *c) {
+    CHECK(c, strcmp(sph_formulation_name(SPH_FORMULATION_ENOG), "enog") == 0, "enog");
+    CHECK(c, strcmp(sph_formulation_name(SPH_FORMULATION_ENOG_A), "enog-a") == 0, "enog-a");
+    CHECK(c, strcmp(sph_rotation_name(SPH_ROTATION_PER_PARTICLE), "per-particle") == 0, "rot");
+    CHECK(c, strcmp(sph_kernel_name(SPH_KERNEL_WENDLAND_C2), "wendland-c2") == 0, "kernel");
+    CHECK(c, strcmp(sph_stepping_name(SPH_STEPPING_SINGLE), "single") == 0, "stepping");
+}
+
+int main(void) {
+    test_counts c = {0, 0};
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/test_scene.XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 2;
+    }
+    test_oscillating_plate(&c);
+    test_spinning_plate(&c);
+    test_overrides(&c);
+    test_bad_inputs(&c);
+    test_features(&c);
+    test_names(&c);
+    for (int i = 0; i < ntmp; i++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/scene%d.cfg", tmpdir, i);
+        unlink(path);
+    }
+    rmdir(tmpdir);
+    return test_summary("test_scene", &c);
+}

@@ -1,0 +1,109 @@
+/* test_support.h — shared pieces of the backend-parameterised tests: the
+ * backend named on the command line, programmatic particle sets, and paths
+ * of the shipped cases. */
+#ifndef SPH_TEST_SUPPORT_H
+#define SPH_TEST_SUPPORT_H
+
+#include "backend.h"
+#include "run.h"
+#include "sph_constants.h"
+#include "test_util.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* argv[1]: "cpu" or "opencl" (OpenCL takes the first device: pocl in CI). */
+static inline sph_backend_kind test_backend_kind(int argc, char **argv) {
+    if (argc > 1 && strcmp(argv[1], "opencl") == 0) return SPH_BACKEND_OPENCL;
+    return SPH_BACKEND_CPU;
+}
+
+static inline const char *test_source_dir(void) {
+    const char *dir = getenv("SPHSOLID_SOURCE_DIR");
+    return dir ? dir : ".";
+}
+
+static inline void test_case_path(const char *case_name, char *buf, size_t len) {
+    snprintf(buf, len, "%s/cases/%s/scene.cfg", test_source_dir(), case_name);
+}
+
+/* A particle set of `n` particles, all of one body, unit density and mass
+ * rho0 dp^d; positions filled by the caller. */
+static inline int test_particles_alloc(sph_particles *p, int n, int dim, double rho0, double dp) {
+    memset(p, 0, sizeof *p);
+    p->n = n;
+    p->dim = dim;
+    p->pos = calloc((size_t)n * dim, sizeof(double));
+    p->vel = calloc((size_t)n * dim, sizeof(double));
+    p->mass = calloc((size_t)n, sizeof(double));
+    p->rho = calloc((size_t)n, sizeof(double));
+    p->id = calloc((size_t)n, sizeof(int32_t));
+    p->body = calloc((size_t)n, sizeof(uint8_t));
+    if (!p->pos || !p->vel || !p->mass || !p->rho || !p->id || !p->body) return -1;
+    for (int i = 0; i < n; ++i) {
+        p->mass[i] = rho0 * (dim == 2 ? dp * dp : dp * dp * dp);
+        p->rho[i] = rho0;
+        p->id[i] = i;
+    }
+    p->body_count[0] = n;
+    return 0;
+}
+
+/* Elastic feature set and parameter block for hand-made particle sets. */
+static inline void test_features(sph_features *f, int dim, bool double_precision,
+                                 sph_rotation rotation) {
+    memset(f, 0, sizeof *f);
+    f->dim = dim;
+    f->double_precision = double_precision;
+    f->formulation = rotation == SPH_ROTATION_NONE ? SPH_FORMULATION_ENOG : SPH_FORMULATION_ENOG_A;
+    f->rotation = rotation;
+    f->kernel = SPH_KERNEL_WENDLAND_C2;
+    f->stepping = SPH_STEPPING_DUAL;
+    f->nbodies = 1;
+}
+
+static inline void test_params(double *prm, int dim, double dp, double n_body) {
+    for (int k = 0; k < PRM_COUNT; ++k) prm[k] = 0.0;
+    const double rho0 = 1000.0, e = 2e6, nu = 0.3975;
+    prm[PRM_H] = 1.3 * dp;
+    prm[PRM_CUTOFF] = 2.6 * dp;
+    prm[PRM_RHO0] = rho0;
+    prm[PRM_C0] = sqrt(e / (3.0 * (1.0 - 2.0 * nu) * rho0));
+    prm[PRM_G] = e / (2.0 * (1.0 + nu));
+    prm[PRM_K] = rho0 * prm[PRM_C0] * prm[PRM_C0];
+    prm[PRM_XI_E] = 0.7 * dim + 2.1;
+    prm[PRM_NBODIES] = 1;
+    prm[PRM_DP] = dp;
+    prm[PRM_BODY_COUNT] = n_body;
+}
+
+static inline sph_status test_backend(sph_backend_kind kind, const sph_features *f,
+                                      const double *prm, int n, sph_backend **be, sph_error *err) {
+    const sph_backend_request req = {.kind = kind, .device_index = -1, .quiet = true};
+    return sph_backend_create(&req, f, prm, n, be, err);
+}
+
+/* Run a shipped case with overrides on a backend; returns the status. */
+static inline sph_status test_run_case(const char *case_name, const char *const *overrides,
+                                       int noverrides, sph_backend_kind kind, bool double_precision,
+                                       long max_steps, sph_simulation *sim, sph_error *err) {
+    char path[1024];
+    test_case_path(case_name, path, sizeof path);
+    const sph_run_options opt = {
+        .scene_path = path,
+        .overrides = overrides,
+        .noverrides = noverrides,
+        .backend = {.kind = kind, .device_index = -1, .quiet = true},
+        .double_precision = double_precision,
+        .out_dir = NULL,
+        .quiet = true,
+        .max_acoustic_steps = max_steps,
+    };
+    sph_status st = sph_simulation_open(sim, &opt, err);
+    if (!st) st = sph_simulation_run(sim, err);
+    return st;
+}
+
+#endif
