@@ -34,15 +34,14 @@
 #if SPH_HAS_ROTATION_AVG
 #    define ROTATION_AVG_PARAMS                                                                    \
         , GLOBAL const real *restrict dacc_shear, GLOBAL const real *restrict substep_sums
-#    define ROTATION_AVG_SPIN_PARAMS                                                               \
-        , GLOBAL real *restrict dacc_shear, GLOBAL real *restrict spin
+#    define ROTATION_AVG_SPIN_PARAMS , GLOBAL real *restrict dacc_shear, GLOBAL real *restrict spin
 #else
 #    define ROTATION_AVG_PARAMS
 #    define ROTATION_AVG_SPIN_PARAMS
 #endif
 #if SPH_HAS_BODY_IDS
 #    define BODY_PARAMS , GLOBAL const u8 *restrict body
-#    define BODY_OF(i) (PRESENT(body) ? (int)body[i] : 0)
+#    define BODY_OF(i)  (PRESENT(body) ? (int)body[i] : 0)
 #else
 #    define BODY_PARAMS
 #    define BODY_OF(i) 0
@@ -69,15 +68,15 @@ FN mat mean_rotation(CONSTANT real *prm, GLOBAL const real *restrict substep_sum
     return r;
 }
 
-KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real dt,
-                              CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
-                              GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
-                              GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict rho,
-                              GLOBAL const real *restrict drho, GLOBAL const real *restrict mass,
-                              GLOBAL const real *restrict vol, GLOBAL const real *restrict acc_diss,
-                              GLOBAL real *restrict acc_shear, GLOBAL real *restrict pos,
-                              GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS
-                                  CLAMP_PARAMS) {
+KERNEL void
+acoustic_pressure(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+                  GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+                  GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+                  GLOBAL const real *restrict rho, GLOBAL const real *restrict drho,
+                  GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+                  GLOBAL const real *restrict acc_diss, GLOBAL real *restrict acc_shear,
+                  GLOBAL real *restrict pos,
+                  GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -127,15 +126,16 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real 
     vec_store(pos, n, i, x_new);
 }
 
-KERNEL void acoustic_velocity_terms(
-    ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
-    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
-    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-    GLOBAL const real *restrict pair_inv_r, GLOBAL const real *restrict vel,
-    GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
-    GLOBAL const real *restrict bmat, GLOBAL real *restrict rho, GLOBAL real *restrict drho,
-    GLOBAL real *restrict acc_diss, GLOBAL real *restrict tau,
-    GLOBAL real *restrict acc_shear ROTATION_AVG_SPIN_PARAMS) {
+KERNEL void
+acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+                        GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+                        GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+                        GLOBAL const real *restrict pair_inv_r, GLOBAL const real *restrict vel,
+                        GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+                        GLOBAL const real *restrict bmat, GLOBAL real *restrict rho,
+                        GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss,
+                        GLOBAL real *restrict tau,
+                        GLOBAL real *restrict acc_shear ROTATION_AVG_SPIN_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;

@@ -17,7 +17,7 @@
 #include "sph_smoothing_kernel.h"
 
 #define SPH_TIKHONOV_EPS R(1e-8)
-#define SORT_PAD_KEY ((ulong)0xFFFFFFFFFFFFFFFFUL)
+#define SORT_PAD_KEY     ((ulong)0xFFFFFFFFFFFFFFFFUL)
 
 /* Grid geometry buffer: origin (SPH_DIM entries, padded to 3), then 1/cell. */
 #define GRID_INV_CELL 3
@@ -55,8 +55,12 @@ KERNEL void cell_keys(ITEM_PARAM const int n, const int npad, GLOBAL const real 
     keys[i] = (cell << 32) | (ulong)i;
 }
 
-FN int key_index(const ulong key) { return (int)(key & (ulong)0xFFFFFFFFUL); }
-FN int key_cell(const ulong key) { return (int)(key >> 32); }
+FN int key_index(const ulong key) {
+    return (int)(key & (ulong)0xFFFFFFFFUL);
+}
+FN int key_cell(const ulong key) {
+    return (int)(key >> 32);
+}
 
 /* Gather one field into the sorted order: dst[c][k] = src[c][perm k]. */
 KERNEL void permute_real(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,

@@ -17,13 +17,13 @@
 #include "sph_rotation.h"
 #include "sph_elasticity.h"
 
-#define REBUILD_NCOMP (2 * SPH_DIM + 2)
+#define REBUILD_NCOMP     (2 * SPH_DIM + 2)
 #define SUBSTEP_NCOMP_MAX (1 + SPH_NBODIES * SPH_DIM * SPH_DIM)
-#define DIAG_NCOMP (2 + SPH_DIM + NSPIN)
-#define DIAG_KINETIC 0
-#define DIAG_STRAIN 1
-#define DIAG_MOMENTUM 2
-#define DIAG_ANGULAR (2 + SPH_DIM)
+#define DIAG_NCOMP        (2 + SPH_DIM + NSPIN)
+#define DIAG_KINETIC      0
+#define DIAG_STRAIN       1
+#define DIAG_MOMENTUM     2
+#define DIAG_ANGULAR      (2 + SPH_DIM)
 
 FN void reduce_identity(real *c, const int nmax, const int ncomp) {
     for (int k = 0; k < ncomp; ++k) c[k] = k < nmax ? REAL_LOWEST : R(0);
@@ -77,8 +77,8 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *
 /* Components (all by sum): kinetic energy, strain energy, momentum (d),
  * angular momentum about the origin (1 in 2D, 3 in 3D). */
 FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const real *pos,
-                            GLOBAL const real *vel, GLOBAL const real *mass,
-                            GLOBAL const real *rho, GLOBAL const real *tau, real *c) {
+                            GLOBAL const real *vel, GLOBAL const real *mass, GLOBAL const real *rho,
+                            GLOBAL const real *tau, real *c) {
     const vec x = vec_load(pos, n, i), v = vec_load(vel, n, i);
     const real m = mass[i];
     c[DIAG_KINETIC] = R(0.5) * m * vec_dot(v, v);
@@ -128,14 +128,14 @@ rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const real *restrict pos,
 }
 
 #    if SPH_HAS_ROTATION_AVG
-#        define SPIN_ARG spin
+#        define SPIN_ARG           spin
 #        define REDUCE_SPIN_PARAMS , GLOBAL const real *restrict spin
 #    else
 #        define SPIN_ARG 0
 #        define REDUCE_SPIN_PARAMS
 #    endif
 #    if SPH_HAS_BODY_IDS
-#        define BODY_ARG body
+#        define BODY_ARG           body
 #        define REDUCE_BODY_PARAMS , GLOBAL const u8 *restrict body
 #    else
 #        define BODY_ARG 0

@@ -47,10 +47,10 @@ FN real von_mises(const mat tau, const real p) {
                      R(0)));
 #else
     const real xx = s.m[0][0], yy = s.m[1][1], zz = s.m[2][2];
-    return sqrt(fmax(xx * xx + yy * yy + zz * zz - xx * yy - xx * zz - yy * zz +
-                         R(3) * (s.m[0][1] * s.m[0][1] + s.m[0][2] * s.m[0][2] +
-                                 s.m[1][2] * s.m[1][2]),
-                     R(0)));
+    return sqrt(
+        fmax(xx * xx + yy * yy + zz * zz - xx * yy - xx * zz - yy * zz +
+                 R(3) * (s.m[0][1] * s.m[0][1] + s.m[0][2] * s.m[0][2] + s.m[1][2] * s.m[1][2]),
+             R(0)));
 #endif
 }
 

@@ -31,25 +31,25 @@ typedef double real;
 #    else
 typedef float real;
 #    endif
-#    define GLOBAL __global
+#    define GLOBAL   __global
 #    define CONSTANT __constant
-#    define FN static inline
+#    define FN       static inline
 /* A per-item kernel is an OpenCL kernel here and a plain function called in
  * an OpenMP loop on the CPU.  ITEM_PARAM/ITEM_ID give it its item index. */
 #    define KERNEL __kernel
 #    define ITEM_PARAM
 #    define ITEM_ID ((int)get_global_id(0))
 /* Optional buffers exist only when their feature is compiled in. */
-#    define PRESENT(p) 1
+#    define PRESENT(p)       1
 #    define RUNTIME_ROTATION SPH_ROTATION
-#    define RUNTIME_KERNEL SPH_KERNEL
-#    define RUNTIME_NBODIES SPH_NBODIES
+#    define RUNTIME_KERNEL   SPH_KERNEL
+#    define RUNTIME_NBODIES  SPH_NBODIES
 /* Which optional buffers this program has. */
 #    define SPH_HAS_ROTATION_AVG (SPH_ROTATION == ROTATION_AVERAGED)
-#    define SPH_HAS_BODY_IDS (SPH_NBODIES > 1)
+#    define SPH_HAS_BODY_IDS     (SPH_NBODIES > 1)
 typedef uchar u8;
 #    define ATOMIC_MAX_INT(p, v) atomic_max((p), (v))
-#    define REAL_LOWEST (-INFINITY)
+#    define REAL_LOWEST          (-INFINITY)
 #else
 #    include <tgmath.h>
 #    include <stdint.h>
@@ -60,19 +60,19 @@ typedef double real;
 typedef float real;
 #    endif
 #    define GLOBAL
-#    define CONSTANT const
-#    define FN static inline
-#    define KERNEL static inline
-#    define ITEM_PARAM const int item_,
-#    define ITEM_ID item_
+#    define CONSTANT             const
+#    define FN                   static inline
+#    define KERNEL               static inline
+#    define ITEM_PARAM           const int item_,
+#    define ITEM_ID              item_
 /* The CPU backend compiles every feature in and passes NULL for the buffers
  * a scene does not have. */
-#    define PRESENT(p) ((p) != 0)
-#    define RUNTIME_ROTATION ((int)prm[PRM_ROTATION])
-#    define RUNTIME_KERNEL ((int)prm[PRM_KERNEL])
-#    define RUNTIME_NBODIES ((int)prm[PRM_NBODIES])
+#    define PRESENT(p)           ((p) != 0)
+#    define RUNTIME_ROTATION     ((int)prm[PRM_ROTATION])
+#    define RUNTIME_KERNEL       ((int)prm[PRM_KERNEL])
+#    define RUNTIME_NBODIES      ((int)prm[PRM_NBODIES])
 #    define SPH_HAS_ROTATION_AVG 1
-#    define SPH_HAS_BODY_IDS 1
+#    define SPH_HAS_BODY_IDS     1
 #    ifndef SPH_HAS_CLAMP
 #        define SPH_HAS_CLAMP 1
 #    endif
@@ -91,8 +91,8 @@ typedef uint64_t ulong;
 #    define ATOMIC_MAX_INT(p, v)                                                                   \
         do {                                                                                       \
             int seen_ = __atomic_load_n((p), __ATOMIC_RELAXED);                                    \
-            while (seen_ < (v) && !__atomic_compare_exchange_n((p), &seen_, (v), 0,                \
-                                                               __ATOMIC_RELAXED, __ATOMIC_RELAXED)) \
+            while (seen_ < (v) && !__atomic_compare_exchange_n(                                    \
+                                      (p), &seen_, (v), 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED))    \
                 ;                                                                                  \
         } while (0)
 #    define REAL_LOWEST (-INFINITY)
@@ -107,14 +107,14 @@ typedef uint64_t ulong;
 #endif
 
 /* Components of the per-particle quantities for this dimension. */
-#define NSYM (SPH_DIM * (SPH_DIM + 1) / 2) /* symmetric tensor */
-#define NSPIN (SPH_DIM == 2 ? 1 : 3)       /* independent spin components */
+#define NSYM  (SPH_DIM * (SPH_DIM + 1) / 2) /* symmetric tensor */
+#define NSPIN (SPH_DIM == 2 ? 1 : 3)        /* independent spin components */
 
 /* Pair slot (i, k) in the frozen neighbour arrays (see SPH_NBR_ROW_MAJOR). */
 #if SPH_NBR_ROW_MAJOR
-#    define NBR_AT(i, k) ((i) * cap + (k))
+#    define NBR_AT(i, k) ((i)*cap + (k))
 #else
-#    define NBR_AT(i, k) ((k) * n + (i))
+#    define NBR_AT(i, k) ((k)*n + (i))
 #endif
 
 #endif

@@ -47,6 +47,8 @@ FN vec riemann_dissipation_pair(const real u_ij, const real c0, const real limit
                                 const real dwv, const vec e_ij) {
     return vec_scale(e_ij, riemann_limiter(u_ij, c0, limiter_slope) * u_ij * dwv);
 }
-FN real riemann_continuity_pair(const real u_ij, const real dwv) { return u_ij * dwv; }
+FN real riemann_continuity_pair(const real u_ij, const real dwv) {
+    return u_ij * dwv;
+}
 
 #endif

@@ -36,14 +36,16 @@ FN real kernel_w(CONSTANT real *prm, const real r) {
     const real h = prm[PRM_H];
     (void)prm;
     switch (RUNTIME_KERNEL) {
-    default: return wendland_c2_alpha(h) * wendland_c2_f(r / h);
+    default:
+        return wendland_c2_alpha(h) * wendland_c2_f(r / h);
     }
 }
 /* dW/dr (<= 0) */
 FN real kernel_dw(CONSTANT real *prm, const real r) {
     const real h = prm[PRM_H];
     switch (RUNTIME_KERNEL) {
-    default: return wendland_c2_alpha(h) * wendland_c2_df(r / h) / h;
+    default:
+        return wendland_c2_alpha(h) * wendland_c2_df(r / h) / h;
     }
 }
 

@@ -32,7 +32,8 @@ sph_status sph_timeseries_append(sph_timeseries *ts, double t, const sph_diagnos
     }
     ts->time[ts->count] = t;
     ts->diag[ts->count] = *d;
-    if (per_row) memcpy(ts->observers + (size_t)ts->count * per_row, observers, per_row * sizeof(double));
+    if (per_row)
+        memcpy(ts->observers + (size_t)ts->count * per_row, observers, per_row * sizeof(double));
     ts->count++;
     return SPH_OK;
 }
@@ -57,7 +58,9 @@ double sph_first_period(const double *t, const double *y, int count) {
     return NAN;
 }
 
-static double norm3(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+static double norm3(const double *v) {
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
 void sph_metrics_compute(const sph_timeseries *ts, int period_observer, int period_axis,
                          double initial_momentum_scale, sph_metrics *m) {

@@ -33,7 +33,7 @@ typedef struct {
     double max_angular_momentum_error; /* NAN when L(0) = 0 */
     double max_linear_momentum_drift;  /* max |P(t) - P(0)| / sum m |v(0)| */
     double initial_kinetic_energy;
-    double final_total_energy_ratio; /* E(end) / E(0) */
+    double final_total_energy_ratio;  /* E(end) / E(0) */
     double max_observer_displacement; /* of the period observer along its axis */
 } sph_metrics;
 

@@ -13,12 +13,13 @@ sph_status sph_backend_create(const sph_backend_request *req, const sph_features
     *out = NULL;
     if (req->kind == SPH_BACKEND_CPU) {
         sph_status st = sph_backend_cpu_create(f, prm, n, out, err);
-        if (!st) snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "requested");
+        if (!st) snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "requested");
         return st;
     }
     if (req->kind == SPH_BACKEND_OPENCL) {
-        sph_status st = sph_backend_opencl_create(req->device_index, f, prm, n, req->quiet, out, err);
-        if (!st) snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "requested");
+        sph_status st =
+            sph_backend_opencl_create(req->device_index, f, prm, n, req->quiet, out, err);
+        if (!st) snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "requested");
         return st;
     }
     /* Automatic: an OpenCL GPU when one is present, else the native backend
@@ -29,13 +30,13 @@ sph_status sph_backend_create(const sph_backend_request *req, const sph_features
         sph_error gpu_err = {0};
         sph_status st = sph_backend_opencl_create(gpu, f, prm, n, req->quiet, out, &gpu_err);
         if (!st) {
-            snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "%s", reason);
+            snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "%s", reason);
             return SPH_OK;
         }
         sph_format(reason, sizeof reason, "the OpenCL GPU failed to start (%s)", gpu_err.msg);
     }
     sph_status st = sph_backend_cpu_create(f, prm, n, out, err);
-    if (!st) snprintf((*out)->choice_reason, sizeof (*out)->choice_reason, "%s", reason);
+    if (!st) snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "%s", reason);
     return st;
 }
 
@@ -70,8 +71,8 @@ void sph_neighbour_lists_free(sph_neighbour_lists *l) {
 
 int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp) {
     const double pi = 3.14159265358979323846;
-    const double lattice = dim == 2 ? pi * cutoff_over_dp * cutoff_over_dp
-                                    : 4.0 / 3.0 * pi * pow(cutoff_over_dp, 3.0);
+    const double lattice =
+        dim == 2 ? pi * cutoff_over_dp * cutoff_over_dp : 4.0 / 3.0 * pi * pow(cutoff_over_dp, 3.0);
     int cap = (int)ceil(1.5 * lattice);
     return (cap + 3) / 4 * 4;
 }

@@ -73,8 +73,8 @@ typedef struct {
 
 struct sph_backend {
     const sph_backend_ops *ops;
-    const char *kind_name;  /* "cpu" or "opencl" */
-    char device_name[256];  /* e.g. "AMD EPYC (2 threads)" */
+    const char *kind_name; /* "cpu" or "opencl" */
+    char device_name[256]; /* e.g. "AMD EPYC (2 threads)" */
     char build_options[512];
     char choice_reason[256]; /* why this backend/device was chosen */
     sph_features features;

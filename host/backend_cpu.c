@@ -13,9 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SUBSTEP_SUMS_LEN (1 + SPH_MAX_BODIES * 9)
+#define SUBSTEP_SUMS_LEN  (1 + SPH_MAX_BODIES * 9)
 #define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
-#define CPU_GROUP 256 /* = SPH_WG of the C build of device/ */
+#define CPU_GROUP         256 /* = SPH_WG of the C build of device/ */
 
 typedef struct {
     const cpu_kernels *k;
@@ -40,7 +40,8 @@ const cpu_kernels *cpu_kernels_for(int dim, bool double_precision) {
 static bool use_threads(int n) {
     if (omp_get_max_threads() < 2) return false;
     const char *policy = getenv("OMP_WAIT_POLICY");
-    const bool passive = policy && (strcmp(policy, "passive") == 0 || strcmp(policy, "PASSIVE") == 0);
+    const bool passive =
+        policy && (strcmp(policy, "passive") == 0 || strcmp(policy, "PASSIVE") == 0);
     return n >= (passive ? 4096 : 1024);
 }
 
@@ -72,8 +73,9 @@ static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *
     c->b.pair_e = malloc(slots * (size_t)be->features.dim * c->real_size);
     c->b.pair_dwv = malloc(slots * c->real_size);
     c->b.pair_inv_r = malloc(slots * c->real_size);
-    sph_backend_record_buffer(be, "neighbour lists and frozen pair geometry",
-                              slots * (sizeof(int32_t) + (size_t)(be->features.dim + 2) * c->real_size));
+    sph_backend_record_buffer(
+        be, "neighbour lists and frozen pair geometry",
+        slots * (sizeof(int32_t) + (size_t)(be->features.dim + 2) * c->real_size));
     if (!c->b.nbr_j || !c->b.pair_e || !c->b.pair_dwv || !c->b.pair_inv_r)
         return sph_fail(err, SPH_ERR_RUNTIME,
                         "out of host memory for the neighbour lists (%d particles x %d slots)",
@@ -335,8 +337,8 @@ sph_status sph_backend_cpu_create(const sph_features *f, const double prm[PRM_CO
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for %d particles", n);
     }
     for (int k = 0; k < PRM_COUNT; ++k) set_real(c, c->b.prm, (size_t)k, prm[k]);
-    sph_status st =
-        alloc_pairs(be, c, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]), err);
+    sph_status st = alloc_pairs(
+        be, c, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]), err);
     if (st) {
         cpu_destroy(be);
         return st;

@@ -20,7 +20,7 @@
         const int n_ = (b)->n;                                                                     \
         const int ngroups_ = (n_ + SPH_WG - 1) / SPH_WG;                                           \
         _Pragma("omp for schedule(static)") for (int g_ = 0; g_ < ngroups_; ++g_) {                \
-            real acc_[SUBSTEP_NCOMP_MAX > REBUILD_NCOMP ? SUBSTEP_NCOMP_MAX : REBUILD_NCOMP];       \
+            real acc_[SUBSTEP_NCOMP_MAX > REBUILD_NCOMP ? SUBSTEP_NCOMP_MAX : REBUILD_NCOMP];      \
             real c_[SUBSTEP_NCOMP_MAX > REBUILD_NCOMP ? SUBSTEP_NCOMP_MAX : REBUILD_NCOMP];        \
             reduce_identity(acc_, (nmax), (ncomp));                                                \
             const int end_ = (g_ + 1) * SPH_WG < n_ ? (g_ + 1) * SPH_WG : n_;                      \
@@ -38,7 +38,7 @@
     } while (0)
 
 #define F_REAL(b, f) ((real *)(b)->field[f])
-#define F_U8(b, f) ((u8 *)(b)->field[f])
+#define F_U8(b, f)   ((u8 *)(b)->field[f])
 
 static void rebuild_reduce_impl(cpu_buffers *b, double *out) {
     real result[REBUILD_NCOMP];
@@ -62,8 +62,8 @@ static void cell_keys_impl(cpu_buffers *b, const sph_grid *g) {
     const int n = b->n;
 #pragma omp parallel for schedule(static) if (b->parallel)
     for (int i = 0; i < n; ++i)
-        cell_keys(i, n, n, F_REAL(b, FIELD_POS), (const real *)b->grid_geom, g->dims[0],
-                  g->dims[1], g->dims[2], b->keys);
+        cell_keys(i, n, n, F_REAL(b, FIELD_POS), (const real *)b->grid_geom, g->dims[0], g->dims[1],
+                  g->dims[2], b->keys);
 }
 
 static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g) {

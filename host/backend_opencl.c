@@ -18,9 +18,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SUBSTEP_SUMS_LEN (1 + SPH_MAX_BODIES * 9)
+#define SUBSTEP_SUMS_LEN  (1 + SPH_MAX_BODIES * 9)
 #define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
-#define RESULT_LEN 16
+#define RESULT_LEN        16
 
 /* Indices of the named resources kernels are bound to. */
 enum {
@@ -75,7 +75,9 @@ static sph_status cl_check(cl_int rc, const char *what, sph_error *err) {
     return sph_fail(err, SPH_ERR_RUNTIME, "%s failed: %s (%d)", what, sph_cl_error_name(rc), rc);
 }
 
-static size_t round_up(size_t x, size_t m) { return (x + m - 1) / m * m; }
+static size_t round_up(size_t x, size_t m) {
+    return (x + m - 1) / m * m;
+}
 
 static sph_status make_buffer(sph_backend *be, ocl_impl *o, const char *name, size_t bytes,
                               cl_mem *out, sph_error *err) {
@@ -166,12 +168,12 @@ static sph_status read_reals(ocl_impl *o, cl_mem buf, size_t offset, size_t coun
     const size_t bytes = count * o->real_size;
     void *tmp = malloc(bytes);
     if (!tmp) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
-    const cl_int rc = clEnqueueReadBuffer(o->queue, buf, CL_TRUE, offset * o->real_size, bytes,
-                                          tmp, 0, NULL, NULL);
+    const cl_int rc = clEnqueueReadBuffer(o->queue, buf, CL_TRUE, offset * o->real_size, bytes, tmp,
+                                          0, NULL, NULL);
     if (rc == CL_SUCCESS)
         for (size_t k = 0; k < count; ++k)
-            out[k] = o->real_size == sizeof(double) ? ((double *)tmp)[k]
-                                                    : (double)((float *)tmp)[k];
+            out[k] =
+                o->real_size == sizeof(double) ? ((double *)tmp)[k] : (double)((float *)tmp)[k];
     free(tmp);
     return cl_check(rc, "reading a device buffer", err);
 }
@@ -246,11 +248,11 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     cl_int rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_ID], CL_TRUE, 0,
                                      (size_t)n * sizeof(cl_int), p->id, 0, NULL, NULL);
     if (rc == CL_SUCCESS && o->field[FIELD_BODY])
-        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_BODY], CL_TRUE, 0, (size_t)n, p->body,
-                                  0, NULL, NULL);
+        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_BODY], CL_TRUE, 0, (size_t)n, p->body, 0,
+                                  NULL, NULL);
     if (rc == CL_SUCCESS && o->field[FIELD_FIXED])
-        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_FIXED], CL_TRUE, 0, (size_t)n,
-                                  p->fixed, 0, NULL, NULL);
+        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_FIXED], CL_TRUE, 0, (size_t)n, p->fixed,
+                                  0, NULL, NULL);
     if (rc == CL_SUCCESS)
         rc = clEnqueueFillBuffer(o->queue, o->substep_sums, &zero, 1, 0,
                                  SUBSTEP_SUMS_LEN * o->real_size, 0, NULL, NULL);
@@ -296,7 +298,8 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     ocl_impl *o = be->impl;
     const int d = be->features.dim;
     const int ncomp = 2 * d + 2;
-    sph_status st = launch(o, &o->k.rebuild_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
+    sph_status st =
+        launch(o, &o->k.rebuild_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
     if (!st) st = finalize(o, ncomp, ncomp, o->result, err);
     double red[8];
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
@@ -362,8 +365,9 @@ static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sp
     real_scalar dt_s;
     const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
     const size_t items = (size_t)be->n;
-    const int ncomp =
-        be->features.rotation == SPH_ROTATION_AVERAGED ? 1 + be->features.nbodies * be->features.dim * be->features.dim : 1;
+    const int ncomp = be->features.rotation == SPH_ROTATION_AVERAGED
+                          ? 1 + be->features.nbodies * be->features.dim * be->features.dim
+                          : 1;
     sph_status st = launch(o, &o->k.pressure, items, o->wg, &dt_arg, 1, err);
     if (!st) st = launch(o, &o->k.velocity_terms, items, o->wg, &dt_arg, 1, err);
     if (!st)
@@ -402,8 +406,8 @@ static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_err
     const sph_field_info *info = &be->fields[f];
     if (info->type == FIELD_TYPE_REAL)
         return read_reals(o, o->field[f], 0, (size_t)be->n * (size_t)info->components, host, err);
-    return cl_check(clEnqueueReadBuffer(o->queue, o->field[f], CL_TRUE, 0, field_bytes(be, f),
-                                        host, 0, NULL, NULL),
+    return cl_check(clEnqueueReadBuffer(o->queue, o->field[f], CL_TRUE, 0, field_bytes(be, f), host,
+                                        0, NULL, NULL),
                     "reading a field", err);
 }
 
@@ -444,9 +448,9 @@ static void ocl_destroy(sph_backend *be) {
             release(&o->field[f]);
             release(&o->spare[f]);
         }
-        cl_mem *bufs[] = {&o->nbr_count, &o->nbr_j,    &o->pair_e,   &o->pair_dwv,
-                          &o->pair_inv_r, &o->keys,    &o->cell_start, &o->cell_end,
-                          &o->prm,        &o->grid_geom, &o->partials, &o->substep_sums,
+        cl_mem *bufs[] = {&o->nbr_count,  &o->nbr_j,     &o->pair_e,     &o->pair_dwv,
+                          &o->pair_inv_r, &o->keys,      &o->cell_start, &o->cell_end,
+                          &o->prm,        &o->grid_geom, &o->partials,   &o->substep_sums,
                           &o->overflow,   &o->result};
         for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) release(bufs[k]);
         if (o->program) clReleaseProgram(o->program);
@@ -533,7 +537,7 @@ sph_status sph_backend_opencl_create(int device_index, const sph_features *f,
         goto fail;
     }
     sph_format(be->device_name, sizeof be->device_name, "%s (%s, %s)", o->dev.name,
-             o->dev.platform_name, o->dev.version);
+               o->dev.platform_name, o->dev.version);
     o->real_size = f->double_precision ? sizeof(double) : sizeof(float);
     o->row_major = (o->dev.type & CL_DEVICE_TYPE_CPU) != 0;
     o->wg = pow2_floor(o->dev.max_work_group < 256 ? o->dev.max_work_group : 256);
@@ -580,8 +584,8 @@ sph_status sph_backend_opencl_create(int device_index, const sph_features *f,
     if (!st) st = make_buffer(be, o, "overflow", sizeof(cl_int), &o->overflow, err);
     if (!st) st = make_buffer(be, o, "result", RESULT_LEN * o->real_size, &o->result, err);
     if (!st)
-        st = alloc_pairs(be, o, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]),
-                         err);
+        st = alloc_pairs(
+            be, o, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]), err);
     if (!st) st = write_reals(o, o->prm, prm, PRM_COUNT, err);
     if (st) goto fail;
     fill_resources(be, o);

@@ -30,9 +30,12 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
 
 size_t sph_field_element_size(sph_field_type type, bool double_precision) {
     switch (type) {
-    case FIELD_TYPE_REAL: return double_precision ? sizeof(double) : sizeof(float);
-    case FIELD_TYPE_INT32: return sizeof(int32_t);
-    case FIELD_TYPE_U8: return sizeof(uint8_t);
+    case FIELD_TYPE_REAL:
+        return double_precision ? sizeof(double) : sizeof(float);
+    case FIELD_TYPE_INT32:
+        return sizeof(int32_t);
+    case FIELD_TYPE_U8:
+        return sizeof(uint8_t);
     }
     return 0;
 }

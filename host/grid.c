@@ -3,7 +3,9 @@
 #include <math.h>
 
 /* Enough cells for a dense scene, bounded for a scattered one. */
-static long max_cells(int nparticles) { return 8L * nparticles + 4096L; }
+static long max_cells(int nparticles) {
+    return 8L * nparticles + 4096L;
+}
 
 sph_status sph_grid_from_bounds(int dim, const double lower[3], const double upper[3],
                                 double cutoff, int nparticles, sph_grid *grid, sph_error *err) {

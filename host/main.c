@@ -127,7 +127,8 @@ static int cmd_run(int argc, char **argv) {
     }
     if (opt.backend.kind == SPH_BACKEND_CPU && opt.backend.device_index >= 0) {
         free(overrides);
-        return input_error("%s", "--device selects an OpenCL device; it does not go with --backend cpu");
+        return input_error("%s",
+                           "--device selects an OpenCL device; it does not go with --backend cpu");
     }
     char default_dir[PATH_MAX];
     if (!out_dir) {

@@ -6,35 +6,60 @@
 #include <string.h>
 
 #define MAX_PLATFORMS 16
-#define MAX_DEVICES 64
+#define MAX_DEVICES   64
 
 const char *sph_cl_error_name(cl_int code) {
     switch (code) {
-    case CL_SUCCESS: return "CL_SUCCESS";
-    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
-    case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE";
-    case CL_COMPILER_NOT_AVAILABLE: return "CL_COMPILER_NOT_AVAILABLE";
-    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
-    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
-    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
-    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
-    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
-    case CL_INVALID_DEVICE: return "CL_INVALID_DEVICE";
-    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
-    case CL_INVALID_BUILD_OPTIONS: return "CL_INVALID_BUILD_OPTIONS";
-    case CL_INVALID_KERNEL_NAME: return "CL_INVALID_KERNEL_NAME";
-    case CL_INVALID_ARG_INDEX: return "CL_INVALID_ARG_INDEX";
-    case CL_INVALID_ARG_VALUE: return "CL_INVALID_ARG_VALUE";
-    case CL_INVALID_ARG_SIZE: return "CL_INVALID_ARG_SIZE";
-    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
-    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
-    case CL_INVALID_WORK_ITEM_SIZE: return "CL_INVALID_WORK_ITEM_SIZE";
-    case CL_INVALID_GLOBAL_WORK_SIZE: return "CL_INVALID_GLOBAL_WORK_SIZE";
-    case CL_INVALID_MEM_OBJECT: return "CL_INVALID_MEM_OBJECT";
-    case CL_INVALID_COMMAND_QUEUE: return "CL_INVALID_COMMAND_QUEUE";
-    case CL_KERNEL_ARG_INFO_NOT_AVAILABLE: return "CL_KERNEL_ARG_INFO_NOT_AVAILABLE";
-    case -1001: return "CL_PLATFORM_NOT_FOUND_KHR (no OpenCL driver installed)";
-    default: return "OpenCL error";
+    case CL_SUCCESS:
+        return "CL_SUCCESS";
+    case CL_DEVICE_NOT_FOUND:
+        return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE:
+        return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_COMPILER_NOT_AVAILABLE:
+        return "CL_COMPILER_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE:
+        return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES:
+        return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY:
+        return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE:
+        return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE:
+        return "CL_INVALID_VALUE";
+    case CL_INVALID_DEVICE:
+        return "CL_INVALID_DEVICE";
+    case CL_INVALID_BUFFER_SIZE:
+        return "CL_INVALID_BUFFER_SIZE";
+    case CL_INVALID_BUILD_OPTIONS:
+        return "CL_INVALID_BUILD_OPTIONS";
+    case CL_INVALID_KERNEL_NAME:
+        return "CL_INVALID_KERNEL_NAME";
+    case CL_INVALID_ARG_INDEX:
+        return "CL_INVALID_ARG_INDEX";
+    case CL_INVALID_ARG_VALUE:
+        return "CL_INVALID_ARG_VALUE";
+    case CL_INVALID_ARG_SIZE:
+        return "CL_INVALID_ARG_SIZE";
+    case CL_INVALID_KERNEL_ARGS:
+        return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_WORK_GROUP_SIZE:
+        return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_WORK_ITEM_SIZE:
+        return "CL_INVALID_WORK_ITEM_SIZE";
+    case CL_INVALID_GLOBAL_WORK_SIZE:
+        return "CL_INVALID_GLOBAL_WORK_SIZE";
+    case CL_INVALID_MEM_OBJECT:
+        return "CL_INVALID_MEM_OBJECT";
+    case CL_INVALID_COMMAND_QUEUE:
+        return "CL_INVALID_COMMAND_QUEUE";
+    case CL_KERNEL_ARG_INFO_NOT_AVAILABLE:
+        return "CL_KERNEL_ARG_INFO_NOT_AVAILABLE";
+    case -1001:
+        return "CL_PLATFORM_NOT_FOUND_KHR (no OpenCL driver installed)";
+    default:
+        return "OpenCL error";
     }
 }
 
@@ -116,8 +141,8 @@ int sph_opencl_find_gpu(char *reason, size_t len) {
         sph_error err;
         if (sph_opencl_device_info_get(k, &info, &err)) continue;
         if (info.type & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) {
-            snprintf(reason, len, "OpenCL device %d (%s, %s) is the first GPU found", k,
-                     info.name, info.platform_name);
+            snprintf(reason, len, "OpenCL device %d (%s, %s) is the first GPU found", k, info.name,
+                     info.platform_name);
             return k;
         }
     }
@@ -247,7 +272,8 @@ sph_status sph_opencl_build_program(cl_context ctx, cl_device_id dev, const char
         char log[1536] = "";
         clGetProgramBuildInfo(prog, dev, CL_PROGRAM_BUILD_LOG, sizeof log - 1, log, NULL);
         clReleaseProgram(prog);
-        return sph_fail(err, SPH_ERR_RUNTIME, "OpenCL program build failed (%s) with options %s: %s",
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "OpenCL program build failed (%s) with options %s: %s",
                         sph_cl_error_name(rc), full_options, log);
     }
     *out = prog;
@@ -294,8 +320,8 @@ sph_status sph_cl_kernel_bind(sph_cl_kernel *k, const sph_cl_arg *resources,
             if (strcmp(overrides[o].name, k->arg_name[a]) == 0) arg = &overrides[o];
         if (!arg && k->resource[a] >= 0) arg = &resources[k->resource[a]];
         if (!arg)
-            return sph_fail(err, SPH_ERR_RUNTIME, "kernel %s: no value for argument '%s'",
-                            k->name, k->arg_name[a]);
+            return sph_fail(err, SPH_ERR_RUNTIME, "kernel %s: no value for argument '%s'", k->name,
+                            k->arg_name[a]);
         const cl_int rc = clSetKernelArg(k->kernel, a, arg->size, arg->value);
         if (rc != CL_SUCCESS)
             return sph_fail(err, SPH_ERR_RUNTIME, "kernel %s: setting argument '%s' failed: %s",

@@ -26,7 +26,9 @@ static sph_status make_dirs(const char *dir, sph_error *err) {
     return SPH_OK;
 }
 
-static const char *axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
+static const char *axis_name(int a) {
+    return a == 0 ? "x" : (a == 1 ? "y" : "z");
+}
 
 sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *scene,
                            sph_error *err) {

@@ -32,8 +32,7 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
     sph_features_from_scene(&sim->scene, &sim->particles, opt->double_precision, &sim->features);
     st = sph_params_fill(&sim->scene, &sim->particles, &sim->features, sim->prm, err);
     if (!st) st = sph_observers_init(&sim->scene, &sim->particles, sim->prm, &sim->observers, err);
-    if (!st)
-        st = sph_timeseries_init(&sim->series, sim->scene.dim, sim->scene.nobservers, err);
+    if (!st) st = sph_timeseries_init(&sim->series, sim->scene.dim, sim->scene.nobservers, err);
     if (st) return st;
     st = sph_backend_create(&opt->backend, &sim->features, sim->prm, sim->particles.n,
                             &sim->backend, err);
@@ -81,13 +80,15 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(res, "smoothing_length", json_object_new_double(sim->prm[PRM_H]));
     json_object_object_add(res, "cutoff", json_object_new_double(sim->prm[PRM_CUTOFF]));
     json_object_object_add(res, "xi_e", json_object_new_double(sc->xi_e));
-    json_object_object_add(res, "stepping", json_object_new_string(sph_stepping_name(sc->stepping)));
+    json_object_object_add(res, "stepping",
+                           json_object_new_string(sph_stepping_name(sc->stepping)));
     json_object_object_add(res, "cfl_advection", json_object_new_double(sc->cfl_advection));
     json_object_object_add(res, "cfl_acoustic", json_object_new_double(sc->cfl_acoustic));
     json_object_object_add(res, "reference_speed", num(sim->stats.reference_speed));
     json_object_object_add(res, "acceleration_criterion",
                            json_object_new_boolean(sc->acceleration_criterion));
-    json_object_object_add(res, "riemann_limiter", json_object_new_double(sc->riemann_limiter_slope));
+    json_object_object_add(res, "riemann_limiter",
+                           json_object_new_double(sc->riemann_limiter_slope));
     json_object_object_add(res, "end_time", json_object_new_double(sc->end_time));
     json_object_object_add(res, "output_interval", json_object_new_double(sc->output_interval));
     json_object_object_add(res, "gravity", vector_json(sc->gravity, sc->dim));
@@ -118,16 +119,19 @@ static json_object *summary_json(const sph_simulation *sim) {
 
     json_object_object_add(root, "formulation",
                            json_object_new_string(sph_formulation_name(sc->formulation)));
-    json_object_object_add(root, "rotation", json_object_new_string(sph_rotation_name(sc->rotation)));
+    json_object_object_add(root, "rotation",
+                           json_object_new_string(sph_rotation_name(sc->rotation)));
     json_object_object_add(root, "kernel", json_object_new_string(sph_kernel_name(sc->kernel)));
     json_object_object_add(root, "backend", json_object_new_string(be->kind_name));
     json_object_object_add(root, "device", json_object_new_string(be->device_name));
     json_object_object_add(root, "backend_choice", json_object_new_string(be->choice_reason));
-    json_object_object_add(root, "precision",
-                           json_object_new_string(sim->features.double_precision ? "double" : "single"));
+    json_object_object_add(
+        root, "precision",
+        json_object_new_string(sim->features.double_precision ? "double" : "single"));
     json_object_object_add(root, "build_options", json_object_new_string(be->build_options));
     json_object *mem = json_object_new_object();
-    json_object_object_add(mem, "total_bytes", json_object_new_int64((int64_t)sph_backend_total_bytes(be)));
+    json_object_object_add(mem, "total_bytes",
+                           json_object_new_int64((int64_t)sph_backend_total_bytes(be)));
     json_object *bufs = json_object_new_array();
     for (int k = 0; k < be->nbuffers; ++k) {
         json_object *o = json_object_new_object();
@@ -139,8 +143,10 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(root, "memory", mem);
 
     json_object_object_add(root, "particle_count", json_object_new_int(sim->particles.n));
-    json_object_object_add(root, "acoustic_steps", json_object_new_int64(sim->stats.acoustic_steps));
-    json_object_object_add(root, "advection_steps", json_object_new_int64(sim->stats.advection_steps));
+    json_object_object_add(root, "acoustic_steps",
+                           json_object_new_int64(sim->stats.acoustic_steps));
+    json_object_object_add(root, "advection_steps",
+                           json_object_new_int64(sim->stats.advection_steps));
     json_object_object_add(root, "simulated_time", json_object_new_double(sim->stats.end_time));
     json_object_object_add(root, "wall_time_s", json_object_new_double(sim->stats.wall_seconds));
     json_object_object_add(root, "setup_time_s", json_object_new_double(sim->setup_seconds));
@@ -152,10 +158,12 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(metrics, "initial_kinetic_energy", num(m->initial_kinetic_energy));
     json_object_object_add(metrics, "final_total_energy_ratio", num(m->final_total_energy_ratio));
     json_object_object_add(metrics, "max_linear_momentum_drift", num(m->max_linear_momentum_drift));
-    json_object_object_add(metrics, "max_angular_momentum_error", num(m->max_angular_momentum_error));
+    json_object_object_add(metrics, "max_angular_momentum_error",
+                           num(m->max_angular_momentum_error));
     if (sc->period_observer >= 0) {
         json_object_object_add(metrics, "first_period", num(m->first_period));
-        json_object_object_add(metrics, "max_observer_displacement", num(m->max_observer_displacement));
+        json_object_object_add(metrics, "max_observer_displacement",
+                               num(m->max_observer_displacement));
     }
     json_object_object_add(root, "metrics", metrics);
     return root;

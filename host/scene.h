@@ -18,14 +18,14 @@
 
 #include <stdbool.h>
 
-#define SPH_NAME_LEN 64
-#define SPH_SCENE_MAX_BODIES 8 /* = SPH_MAX_BODIES of the device code */
-#define SPH_SCENE_MAX_SHAPES 64
+#define SPH_NAME_LEN              64
+#define SPH_SCENE_MAX_BODIES      8 /* = SPH_MAX_BODIES of the device code */
+#define SPH_SCENE_MAX_SHAPES      64
 #define SPH_SCENE_MAX_SHAPE_PARTS 16
-#define SPH_SCENE_MAX_MATERIALS 8
+#define SPH_SCENE_MAX_MATERIALS   8
 #define SPH_SCENE_MAX_CONSTRAINTS 8
-#define SPH_SCENE_MAX_OBSERVERS 16
-#define SPH_SCENE_PATH_LEN 1024
+#define SPH_SCENE_MAX_OBSERVERS   16
+#define SPH_SCENE_PATH_LEN        1024
 
 typedef enum { SPH_FORMULATION_ENOG = 0, SPH_FORMULATION_ENOG_A = 1 } sph_formulation;
 /* values equal the device's ROTATION_* */
@@ -40,8 +40,8 @@ typedef enum { SPH_KERNEL_WENDLAND_C2 = 0 } sph_kernel;
 typedef enum { SPH_SHAPE_BOX, SPH_SHAPE_UNION, SPH_SHAPE_DIFFERENCE } sph_shape_type;
 typedef struct {
     sph_shape_type type;
-    char name[SPH_NAME_LEN]; /* "" for a shape written inline */
-    int line;                /* source line of its definition */
+    char name[SPH_NAME_LEN];   /* "" for a shape written inline */
+    int line;                  /* source line of its definition */
     double lower[3], upper[3]; /* box corners in metres, padding applied */
     int nparts;
     int parts[SPH_SCENE_MAX_SHAPE_PARTS]; /* indices into sph_scene.shapes */

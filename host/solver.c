@@ -44,7 +44,8 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
 
 static void progress(const sph_solver_args *a, double t, const sph_run_stats *s, double elapsed) {
     const double end = a->scene->end_time;
-    const double rate = elapsed > 0 ? (double)a->backend->n * (double)s->acoustic_steps / elapsed : 0;
+    const double rate =
+        elapsed > 0 ? (double)a->backend->n * (double)s->acoustic_steps / elapsed : 0;
     const double eta = t > 0 ? elapsed * (end - t) / t : 0;
     fprintf(stderr,
             "sphsolid: t = %.4g / %.4g s (%.0f%%), %ld acoustic / %ld advection steps, %.3g M "

@@ -39,9 +39,9 @@ typedef struct {
     const sph_particles *initial;
     const double *prm;
     const sph_observer_set *observers;
-    sph_output *output;       /* NULL: no files */
-    bool quiet;               /* no progress lines */
-    long max_acoustic_steps;  /* > 0: stop after this many (tests) */
+    sph_output *output;      /* NULL: no files */
+    bool quiet;              /* no progress lines */
+    long max_acoustic_steps; /* > 0: stop after this many (tests) */
 } sph_solver_args;
 
 sph_status sph_solve(const sph_solver_args *args, sph_timeseries *ts, sph_run_stats *stats,

@@ -10,9 +10,12 @@
  *    (last bit) and the association order of the reductions (work-group tree
  *    on the device, sequential blocks on the CPU), i.e. ~1e-16 per step,
  *    amplified by the stable dynamics over 200 steps to far below 1e-10.
- *  - single precision: 1e-4 relative.  Rounding differences of ~6e-8 per
- *    operation grow through the same dynamics; the measured worst case is
- *    recorded by the test's output (see README "Cross-checking").
+ *  - single precision: 1e-5 relative.  Rounding differences of ~6e-8 per
+ *    operation (and the last bit of float sqrt/sin/cos) grow through the same
+ *    dynamics; measured on pocl 3.1: 7.5e-8 in position and 1.2e-6 in velocity
+ *    for the plate after 200 steps (README, "Cross-checking").
+ * Measured in double: 1.4e-16 / 9.4e-16 (plate), 1.9e-16 / 7.4e-16
+ * (spinning plate), 0 / 0 with per-particle rotation (no reduction involved).
  */
 #include "test_support.h"
 
@@ -43,8 +46,8 @@ static void cross_check(test_counts *t, const char *case_name, const char *const
     const sph_backend_kind kinds[2] = {SPH_BACKEND_CPU, SPH_BACKEND_OPENCL};
     int ok = 1;
     for (int b = 0; b < 2; ++b) {
-        sph_status st = test_run_case(case_name, overrides, noverrides, kinds[b],
-                                      double_precision, 200, &sim[b], &err);
+        sph_status st = test_run_case(case_name, overrides, noverrides, kinds[b], double_precision,
+                                      200, &sim[b], &err);
         if (!st) {
             const int n = sim[b].particles.n, dim = sim[b].scene.dim;
             pos[b] = malloc((size_t)n * dim * sizeof(double));
@@ -82,7 +85,7 @@ int main(void) {
     test_counts t = {0};
     /* the plate: clamp, dual-criteria stepping, averaged rotation */
     cross_check(&t, "oscillating_plate_2d", NULL, 0, true, 1e-10);
-    cross_check(&t, "oscillating_plate_2d", NULL, 0, false, 1e-4);
+    cross_check(&t, "oscillating_plate_2d", NULL, 0, false, 1e-5);
     /* the spinning plate: single-criterion stepping (a rebuild every step) */
     cross_check(&t, "spinning_plate_2d", NULL, 0, true, 1e-10);
     /* per-particle rotation */

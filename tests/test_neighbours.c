@@ -30,8 +30,8 @@ static void check_cloud(test_counts *t, sph_backend_kind kind, int dim, int n, d
     unsigned seed = 2024u + (unsigned)dim;
     for (int i = 0; i < n; ++i)
         for (int a = 0; a < dim; ++a) {
-            const double x = i < cluster ? 0.5 * extent + 0.5 * dp * urand(&seed)
-                                         : extent * urand(&seed);
+            const double x =
+                i < cluster ? 0.5 * extent + 0.5 * dp * urand(&seed) : extent * urand(&seed);
             p.pos[(size_t)a * n + i] = x;
             p.vel[(size_t)a * n + i] = urand(&seed) - 0.5;
         }

@@ -40,12 +40,12 @@ static void check_normalisation(test_counts *t) {
         const double h = prm[PRM_H];
         /* double: the lattice sum converges to the integral; h/delta = 40 (2D)
          * and 20 (3D) resolve it far below 1e-6 */
-        const double integral = lattice_integral(cpu_kernels_for(dim, true), prm,
-                                                 h / (dim == 2 ? 40.0 : 20.0));
+        const double integral =
+            lattice_integral(cpu_kernels_for(dim, true), prm, h / (dim == 2 ? 40.0 : 20.0));
         CHECK_NEAR(t, integral, 1.0, 1e-6, dim == 2 ? "2D sum W dV" : "3D sum W dV");
         /* single precision kernel values, summed in double */
-        const double integral_f = lattice_integral(cpu_kernels_for(dim, false), prm,
-                                                   h / (dim == 2 ? 40.0 : 20.0));
+        const double integral_f =
+            lattice_integral(cpu_kernels_for(dim, false), prm, h / (dim == 2 ? 40.0 : 20.0));
         CHECK_NEAR(t, integral_f, 1.0, 1e-6, "sum W dV, single-precision kernel");
         /* support: W = dW = 0 at and beyond 2h, dW < 0 inside */
         const cpu_kernels *k = cpu_kernels_for(dim, true);
@@ -112,8 +112,8 @@ static void check_correction_matrix(test_counts *t, sph_backend_kind kind) {
                 if (r2 < best) best = r2, centre = i;
             }
             const double h = prm[PRM_H];
-            const double alpha = dim == 2 ? 7.0 / (4.0 * M_PI * h * h)
-                                          : 21.0 / (16.0 * M_PI * h * h * h);
+            const double alpha =
+                dim == 2 ? 7.0 / (4.0 * M_PI * h * h) : 21.0 / (16.0 * M_PI * h * h * h);
             double axx = 0.0;
             for (int a = -4; a <= 4; ++a)
                 for (int bb = -4; bb <= 4; ++bb)
@@ -186,7 +186,8 @@ static void check_rodrigues(test_counts *t) {
     /* below machine epsilon the rotation is exactly I */
     const double tiny[3] = {1e-20, 0.0, 0.0};
     k3->rodrigues(tiny, 1.0, rot);
-    CHECK(t, rot[0] == 1.0 && rot[4] == 1.0 && rot[8] == 1.0 && rot[1] == 0.0, "R = I for |w| dt < eps");
+    CHECK(t, rot[0] == 1.0 && rot[4] == 1.0 && rot[8] == 1.0 && rot[1] == 0.0,
+          "R = I for |w| dt < eps");
 }
 
 static double urand(unsigned *s) {

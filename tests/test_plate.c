@@ -24,8 +24,7 @@ int main(int argc, char **argv) {
     const sph_backend_kind kind = test_backend_kind(argc, argv);
     sph_simulation sim;
     sph_error err = {0};
-    const sph_status st =
-        test_run_case("oscillating_plate_2d", NULL, 0, kind, true, 0, &sim, &err);
+    const sph_status st = test_run_case("oscillating_plate_2d", NULL, 0, kind, true, 0, &sim, &err);
     CHECK(&t, st == SPH_OK, "plate run failed: %s", err.msg);
     if (st == SPH_OK) {
         const sph_metrics *m = &sim.metrics;
@@ -36,7 +35,8 @@ int main(int argc, char **argv) {
                m->final_total_energy_ratio, sim.stats.acoustic_steps, sim.stats.advection_steps,
                sim.stats.wall_seconds);
         CHECK(&t, sim.particles.n == 1612, "particle count %d", sim.particles.n);
-        CHECK(&t, sim.particles.fixed_count == 312, "clamp particles %d", sim.particles.fixed_count);
+        CHECK(&t, sim.particles.fixed_count == 312, "clamp particles %d",
+              sim.particles.fixed_count);
         CHECK_NEAR(&t, m->initial_kinetic_energy, 4.0647984104106447, 4.0647984104106447 * 1e-6,
                    "initial kinetic energy (J/m)");
         CHECK_RANGE(&t, m->first_period, 0.27, 0.30, "first period (s)");

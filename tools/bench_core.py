@@ -1,0 +1,172 @@
+#!/usr/bin/python3
+"""bench_core.py — the core solver's benchmarks (issue: core solver).
+
+  periods  2D oscillating plate at H/dp = 30, v_f = 0.001, 0.01, 0.03, 0.05, with
+           SPH-ENOG-A and SPH-ENOG: first period against 003 Table 1 / 000 Table 1
+           (target: within 2 % of each published value).
+  timing   wall time and particle-substeps per second of the plate to t = 1 s at
+           H/dp = 10, 20, 30 on the native backend and on OpenCL (pocl without a GPU),
+           dual- against single-criterion stepping (000 Table 2), and the speed-up
+           over the public reference code (18.9 s for H/dp = 10 on a 2-core machine).
+
+Writes JSON (--json) and prints Markdown tables.  Runs are sequential; each uses the
+whole machine.  Usage:
+  tools/bench_core.py periods --json bench-results/periods.json
+  tools/bench_core.py timing --json bench-results/timing.json [--resolutions 10 20]
+"""
+import argparse
+import datetime
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.environ.get("SPHSOLID_BIN", os.path.join(ROOT, "build", "sphsolid"))
+PLATE = os.path.join(ROOT, "cases", "oscillating_plate_2d", "scene.cfg")
+
+# 003 Table 1 (ENOG-A), 000 / 003 Table 1 (ENOG), H/dp = 30
+PAPER_PERIODS = {
+    "enog-a": {0.001: 0.265, 0.01: 0.265, 0.03: 0.266, 0.05: 0.269},
+    "enog": {0.001: 0.262, 0.01: 0.263, 0.03: 0.268, 0.05: 0.279},
+}
+# 000 Table 2: wall time to t = 1 s on 32 cores (Xeon Gold 6226R), v_f = 0.05
+PAPER_WALL = {10: {"dual": 25.8, "single": 43.0}, 20: {"dual": 66.3, "single": 139.5},
+              30: {"dual": 130.1, "single": 333.0}}
+REFERENCE_CODE_H10_SECONDS = 18.9  # SPHinXsys, GNOG-A, H/dp = 10, t = 1 s, 2 cores
+
+
+def run(args, out):
+    cmd = [BIN, "run", PLATE, "--quiet", "--out", out] + args
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"bench: {' '.join(cmd)} failed ({p.returncode}): {p.stderr}")
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def environment():
+    env = {"date": datetime.datetime.now().isoformat(timespec="seconds"),
+           "machine": platform.node(), "cpu": "", "cores": os.cpu_count(),
+           "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY", "(default)")}
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                env["cpu"] = line.split(":", 1)[1].strip()
+                break
+        env["commit"] = subprocess.run(["git", "rev-parse", "--short=12", "HEAD"], cwd=ROOT,
+                                       capture_output=True, text=True).stdout.strip()
+    except OSError:
+        pass
+    return env
+
+
+def periods(args, tmp):
+    rows = []
+    for form in ("enog-a", "enog"):
+        rotation = "averaged" if form == "enog-a" else "none"
+        for vf in (0.001, 0.01, 0.03, 0.05):
+            out = os.path.join(tmp, f"p-{form}-{vf}")
+            s = run(["--backend", args.backend, "--set", f"resolution.ratio={args.ratio}",
+                     "--set", f"time.end={args.end}", "--set", f"method.formulation={form}",
+                     "--set", f"method.rotation={rotation}",
+                     "--set", f"bodies.plate.initial_velocity.amplitude_c0={vf}"], out)
+            t = s["metrics"]["first_period"]
+            paper = PAPER_PERIODS[form][vf]
+            row = {"formulation": form, "v_f": vf, "first_period": t, "paper": paper,
+                   "deviation": None if t is None else (t - paper) / paper,
+                   "particles": s["particle_count"], "wall_time_s": s["wall_time_s"],
+                   "device": s["device"]}
+            rows.append(row)
+            print(f"{form:7s} v_f={vf:<6} T={t:.4f} paper {paper:.3f} "
+                  f"({100 * row['deviation']:+.2f} %), {s['wall_time_s']:.0f} s", flush=True)
+    print(f"\n| formulation | v_f | first period (s) | paper | deviation |\n|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['formulation']} | {r['v_f']} | {r['first_period']:.4f} | {r['paper']:.3f} | "
+              f"{100 * r['deviation']:+.2f} % |")
+    worst = max(abs(r["deviation"]) for r in rows)
+    print(f"\nworst deviation {100 * worst:.2f} % (target: within 2 %)")
+    return {"H/dp": args.ratio, "rows": rows, "worst_deviation": worst}
+
+
+def timing(args, tmp):
+    rows = []
+    for ratio in args.resolutions:
+        for backend in args.backends:
+            for stepping in ("dual", "single"):
+                if stepping == "single" and backend not in args.single_on:
+                    continue
+                out = os.path.join(tmp, f"t-{ratio}-{backend}-{stepping}")
+                s = run(["--backend", backend, "--set", f"resolution.ratio={ratio}",
+                         "--set", f"time.stepping={stepping}", "--set", f"time.end={args.end}"],
+                        out)
+                row = {"H/dp": ratio, "backend": backend, "device": s["device"],
+                       "stepping": stepping, "particles": s["particle_count"],
+                       "acoustic_steps": s["acoustic_steps"],
+                       "advection_steps": s["advection_steps"],
+                       "wall_time_s": s["wall_time_s"],
+                       "particle_substeps_per_second": s["particle_substeps_per_second"],
+                       "first_period": s["metrics"].get("first_period"),
+                       "paper_32_core_s": PAPER_WALL.get(ratio, {}).get(stepping)}
+                rows.append(row)
+                print(f"H/dp={ratio} {backend:6s} {stepping:6s} n={row['particles']} "
+                      f"{row['wall_time_s']:.1f} s, "
+                      f"{row['particle_substeps_per_second'] / 1e6:.2f} M particle-substeps/s",
+                      flush=True)
+    print("\n| H/dp | particles | backend | stepping | acoustic / advection steps | wall time (s) "
+          "| M particle-substeps/s | paper, 32 cores (s) |\n|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['H/dp']} | {r['particles']} | {r['backend']} | {r['stepping']} | "
+              f"{r['acoustic_steps']} / {r['advection_steps']} | {r['wall_time_s']:.1f} | "
+              f"{r['particle_substeps_per_second'] / 1e6:.2f} | {r['paper_32_core_s']} |")
+    result = {"end_time": args.end, "rows": rows}
+    speedups = []
+    for ratio in args.resolutions:
+        for backend in args.backends:
+            d = [r for r in rows if r["H/dp"] == ratio and r["backend"] == backend]
+            dual = [r for r in d if r["stepping"] == "dual"]
+            single = [r for r in d if r["stepping"] == "single"]
+            if dual and single:
+                x = single[0]["wall_time_s"] / dual[0]["wall_time_s"]
+                speedups.append({"H/dp": ratio, "backend": backend, "dual_over_single": x})
+                print(f"H/dp={ratio} {backend}: dual-criteria stepping {x:.2f}x faster than "
+                      f"single (paper: {PAPER_WALL[ratio]['single'] / PAPER_WALL[ratio]['dual']:.2f}x)")
+    result["dual_speedup"] = speedups
+    h10 = [r for r in rows if r["H/dp"] == 10 and r["backend"] == "cpu" and r["stepping"] == "dual"]
+    if h10 and args.end == 1.0:
+        x = REFERENCE_CODE_H10_SECONDS / h10[0]["wall_time_s"]
+        result["speedup_over_reference_code_h10"] = x
+        print(f"H/dp=10 native: {h10[0]['wall_time_s']:.1f} s against the reference code's "
+              f"{REFERENCE_CODE_H10_SECONDS} s on the same kind of machine: {x:.2f}x faster")
+    return result
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("what", choices=["periods", "timing"])
+    ap.add_argument("--json", required=True, help="output JSON file")
+    ap.add_argument("--backend", default="cpu", help="periods: backend (default cpu)")
+    ap.add_argument("--ratio", type=float, default=30, help="periods: H/dp (default 30)")
+    ap.add_argument("--end", type=float, default=None,
+                    help="end time (periods: 0.32 s, timing: 1 s)")
+    ap.add_argument("--resolutions", type=int, nargs="+", default=[10, 20, 30])
+    ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"])
+    ap.add_argument("--single-on", nargs="+", default=["cpu"],
+                    help="timing: backends that also run single-criterion stepping")
+    args = ap.parse_args()
+    if args.end is None:
+        args.end = 0.32 if args.what == "periods" else 1.0
+    with tempfile.TemporaryDirectory(prefix="sphsolid-bench-") as tmp:
+        body = periods(args, tmp) if args.what == "periods" else timing(args, tmp)
+    result = {"benchmark": args.what, "environment": environment(), **body}
+    os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
+    with open(args.json + ".partial", "w") as f:
+        json.dump(result, f, indent=2)
+    os.replace(args.json + ".partial", args.json)
+    print(f"\nwrote {args.json}")
+
+
+if __name__ == "__main__":
+    main()
