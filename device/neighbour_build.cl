@@ -62,28 +62,19 @@ FN int key_cell(const ulong key) {
     return (int)(key >> 32);
 }
 
-/* Gather one field into the sorted order: dst[c][k] = src[c][perm k]. */
-KERNEL void permute_real(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,
-                         GLOBAL const real *restrict src, GLOBAL real *restrict dst) {
-    const int k = ITEM_ID;
-    if (k >= n) return;
-    const int from = key_index(keys[k]);
-    for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];
-}
-KERNEL void permute_int(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,
-                        GLOBAL const int *restrict src, GLOBAL int *restrict dst) {
-    const int k = ITEM_ID;
-    if (k >= n) return;
-    const int from = key_index(keys[k]);
-    for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];
-}
-KERNEL void permute_u8(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,
-                       GLOBAL const u8 *restrict src, GLOBAL u8 *restrict dst) {
-    const int k = ITEM_ID;
-    if (k >= n) return;
-    const int from = key_index(keys[k]);
-    for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];
-}
+/* Gather one field into the sorted order: dst[c][k] = src[c][perm k]; one
+ * kernel per element type. */
+#define DEFINE_PERMUTE(name, type)                                                                 \
+    KERNEL void name(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,   \
+                     GLOBAL const type *restrict src, GLOBAL type *restrict dst) {                 \
+        const int k = ITEM_ID;                                                                     \
+        if (k >= n) return;                                                                        \
+        const int from = key_index(keys[k]);                                                       \
+        for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];                        \
+    }
+DEFINE_PERMUTE(permute_real, real)
+DEFINE_PERMUTE(permute_int, int)
+DEFINE_PERMUTE(permute_u8, u8)
 
 /* First and one-past-last sorted index of each occupied cell (the ranges of
  * empty cells were zero-filled before). */

@@ -97,19 +97,26 @@ FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL
 
 #if SPH_OPENCL
 /* Tree reduction of one work-group; item 0 writes the group's row. */
+/* Tree-combine `value` over the work-group (by max or by sum); the result is
+ * in scratch[0] for every item after the call. */
+FN void group_tree(__local real *scratch, const real value, const int by_max) {
+    const int lid = get_local_id(0);
+    scratch[lid] = value;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int s = SPH_WG / 2; s > 0; s >>= 1) {
+        if (lid < s)
+            scratch[lid] =
+                by_max ? fmax(scratch[lid], scratch[lid + s]) : scratch[lid] + scratch[lid + s];
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+}
+
+/* Reduce each component over the work-group; item 0 writes the group's row. */
 FN void group_reduce_store(__local real *scratch, const real *c, const int nmax, const int ncomp,
                            __global real *partials) {
-    const int lid = get_local_id(0);
     for (int k = 0; k < ncomp; ++k) {
-        scratch[lid] = c[k];
-        barrier(CLK_LOCAL_MEM_FENCE);
-        for (int s = SPH_WG / 2; s > 0; s >>= 1) {
-            if (lid < s)
-                scratch[lid] = k < nmax ? fmax(scratch[lid], scratch[lid + s])
-                                        : scratch[lid] + scratch[lid + s];
-            barrier(CLK_LOCAL_MEM_FENCE);
-        }
-        if (lid == 0) partials[get_group_id(0) * ncomp + k] = scratch[0];
+        group_tree(scratch, c[k], k < nmax);
+        if (get_local_id(0) == 0) partials[get_group_id(0) * ncomp + k] = scratch[0];
         barrier(CLK_LOCAL_MEM_FENCE);
     }
 }
@@ -178,14 +185,7 @@ reduce_finalize(const int ngroups, const int nmax, const int ncomp,
             const real x = partials[g * ncomp + k];
             acc = k < nmax ? fmax(acc, x) : acc + x;
         }
-        scratch[lid] = acc;
-        barrier(CLK_LOCAL_MEM_FENCE);
-        for (int s = SPH_WG / 2; s > 0; s >>= 1) {
-            if (lid < s)
-                scratch[lid] = k < nmax ? fmax(scratch[lid], scratch[lid + s])
-                                        : scratch[lid] + scratch[lid + s];
-            barrier(CLK_LOCAL_MEM_FENCE);
-        }
+        group_tree(scratch, acc, k < nmax);
         if (lid == 0) result[k] = scratch[0];
         barrier(CLK_LOCAL_MEM_FENCE);
     }

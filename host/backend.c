@@ -44,6 +44,26 @@ void sph_backend_destroy(sph_backend *be) {
     if (be) be->ops->destroy(be);
 }
 
+void sph_rebuild_info_unpack(const double *reduced, int dim, sph_rebuild_info *info) {
+    for (int a = 0; a < 3; ++a) {
+        info->lower[a] = a < dim ? -reduced[a] : 0.0;
+        info->upper[a] = a < dim ? reduced[dim + a] : 0.0;
+    }
+    info->max_speed2 = reduced[2 * dim];
+    info->max_accel_term = reduced[2 * dim + 1];
+}
+
+void sph_diagnostics_unpack(const double *reduced, int dim, sph_diagnostics *out) {
+    memset(out, 0, sizeof *out);
+    out->kinetic = reduced[0];
+    out->strain = reduced[1];
+    for (int a = 0; a < dim; ++a) out->momentum[a] = reduced[2 + a];
+    if (dim == 2)
+        out->angular[2] = reduced[2 + dim];
+    else
+        for (int a = 0; a < 3; ++a) out->angular[a] = reduced[2 + dim + a];
+}
+
 void sph_backend_record_buffer(sph_backend *be, const char *name, size_t bytes) {
     for (int k = 0; k < be->nbuffers; ++k)
         if (strcmp(be->buffers[k].name, name) == 0) {

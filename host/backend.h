@@ -99,6 +99,11 @@ sph_status sph_backend_opencl_create(int platform_device_index, const sph_featur
                                      sph_backend **out, sph_error *err);
 
 /* Helpers shared by the backends. */
+/* Unpack the results of the rebuild and diagnostics reductions (component
+ * layouts of device/reduction.cl). */
+void sph_rebuild_info_unpack(const double *reduced, int dim, sph_rebuild_info *info);
+void sph_diagnostics_unpack(const double *reduced, int dim, sph_diagnostics *out);
+
 /* Record (or update) the bytes of a named buffer for the memory report. */
 void sph_backend_record_buffer(sph_backend *be, const char *name, size_t bytes);
 size_t sph_backend_total_bytes(const sph_backend *be);

@@ -160,12 +160,7 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     const int d = be->features.dim;
     double red[2 * 3 + 2];
     c->k->rebuild_reduce(&c->b, red);
-    for (int a = 0; a < 3; ++a) {
-        info->lower[a] = a < d ? -red[a] : 0.0;
-        info->upper[a] = a < d ? red[d + a] : 0.0;
-    }
-    info->max_speed2 = red[2 * d];
-    info->max_accel_term = red[2 * d + 1];
+    sph_rebuild_info_unpack(red, d, info);
 
     sph_grid grid;
     const double cutoff = get_real(c, c->b.prm, PRM_CUTOFF);
@@ -207,14 +202,7 @@ static sph_status cpu_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     const int d = be->features.dim;
     double red[2 + 3 + 3];
     c->k->diagnostics(&c->b, red);
-    memset(out, 0, sizeof *out);
-    out->kinetic = red[0];
-    out->strain = red[1];
-    for (int a = 0; a < d; ++a) out->momentum[a] = red[2 + a];
-    if (d == 2)
-        out->angular[2] = red[2 + d];
-    else
-        for (int a = 0; a < 3; ++a) out->angular[a] = red[2 + d + a];
+    sph_diagnostics_unpack(red, d, out);
     return SPH_OK;
 }
 

@@ -304,12 +304,7 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     double red[8];
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
     if (st) return st;
-    for (int a = 0; a < 3; ++a) {
-        info->lower[a] = a < d ? -red[a] : 0.0;
-        info->upper[a] = a < d ? red[d + a] : 0.0;
-    }
-    info->max_speed2 = red[2 * d];
-    info->max_accel_term = red[2 * d + 1];
+    sph_rebuild_info_unpack(red, d, info);
 
     sph_grid grid;
     double cutoff;
@@ -387,14 +382,7 @@ static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     if (!st) st = finalize(o, 0, ncomp, o->result, err);
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
     if (st) return st;
-    memset(out, 0, sizeof *out);
-    out->kinetic = red[0];
-    out->strain = red[1];
-    for (int a = 0; a < d; ++a) out->momentum[a] = red[2 + a];
-    if (d == 2)
-        out->angular[2] = red[2 + d];
-    else
-        for (int a = 0; a < 3; ++a) out->angular[a] = red[2 + d + a];
+    sph_diagnostics_unpack(red, d, out);
     return SPH_OK;
 }
 

@@ -36,7 +36,7 @@ static void check_cloud(test_counts *t, sph_backend_kind kind, int dim, int n, d
             p.vel[(size_t)a * n + i] = urand(&seed) - 0.5;
         }
     sph_features f;
-    test_features(&f, dim, true, SPH_ROTATION_AVERAGED);
+    test_feature_set(&f, dim, true, SPH_ROTATION_AVERAGED);
     double prm[PRM_COUNT];
     test_params(prm, dim, dp, n);
     sph_backend *be = NULL;

@@ -8,30 +8,13 @@
  * spinning plate, whose sums over the lattice are evaluated in closed form
  * below. */
 #include "particles.h"
-#include "test_util.h"
+#include "test_support.h"
 
 #include <stdbool.h>
 #include <stdlib.h>
 #include <unistd.h>
 
-static char tmpdir[256];
-static int ntmp;
-
-static void write_temp(const char *text, char *path, size_t size) {
-    snprintf(path, size, "%s/scene%d.cfg", tmpdir, ntmp++);
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        perror(path);
-        exit(2);
-    }
-    fputs(text, f);
-    fclose(f);
-}
-
-static void case_path(const char *rel, char *path, size_t size) {
-    const char *root = getenv("SPHSOLID_SOURCE_DIR");
-    snprintf(path, size, "%s/%s", root ? root : ".", rel);
-}
+static test_scene_dir tmp;
 
 typedef struct {
     double ke, p[3], lz, max_speed[3];
@@ -88,7 +71,7 @@ static void check_bookkeeping(test_counts *c, const sph_particles *p, const sph_
 
 static void test_oscillating_plate(test_counts *c) {
     char path[1024];
-    case_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
+    test_repo_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
@@ -161,7 +144,7 @@ static void test_oscillating_plate(test_counts *c) {
 
 static void test_spinning_plate(test_counts *c) {
     char path[1024];
-    case_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
+    test_repo_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
@@ -199,7 +182,7 @@ static const char CUBE[] =
 
 static void test_cube(test_counts *c) {
     char path[1024];
-    write_temp(CUBE, path, sizeof path);
+    test_scene_write(&tmp, CUBE, path, sizeof path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
@@ -245,7 +228,7 @@ static const char TWO[] =
 
 static void test_two_bodies(test_counts *c) {
     char path[1024];
-    write_temp(TWO, path, sizeof path);
+    test_scene_write(&tmp, TWO, path, sizeof path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
@@ -355,21 +338,12 @@ static void test_velocity_fields(test_counts *c) {
 
 int main(void) {
     test_counts c = {0, 0};
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/test_particles.XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        perror("mkdtemp");
-        return 2;
-    }
+    if (test_scene_dir_open(&tmp, "test_particles") != 0) return 2;
     test_oscillating_plate(&c);
     test_spinning_plate(&c);
     test_cube(&c);
     test_two_bodies(&c);
     test_velocity_fields(&c);
-    for (int i = 0; i < ntmp; i++) {
-        char path[512];
-        snprintf(path, sizeof path, "%s/scene%d.cfg", tmpdir, i);
-        unlink(path);
-    }
-    rmdir(tmpdir);
+    test_scene_dir_close(&tmp);
     return test_summary("test_particles", &c);
 }

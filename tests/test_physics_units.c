@@ -78,7 +78,7 @@ static void check_correction_matrix(test_counts *t, sph_backend_kind kind) {
             }
         }
         sph_features f;
-        test_features(&f, dim, true, SPH_ROTATION_NONE);
+        test_feature_set(&f, dim, true, SPH_ROTATION_NONE);
         double prm[PRM_COUNT];
         test_params(prm, dim, dp, n);
         sph_backend *be = NULL;

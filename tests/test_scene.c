@@ -5,31 +5,13 @@
  * rho0))); every kind of bad input is rejected with SPH_ERR_INPUT and a
  * message that names the file, the line and the key path (or the override). */
 #include "scene.h"
-#include "test_util.h"
+#include "test_support.h"
 
 #include <stdbool.h>
 #include <stdlib.h>
 #include <unistd.h>
 
-static char tmpdir[256];
-static int ntmp;
-
-/* Write `text` to a fresh file in the test's temporary directory. */
-static void write_temp(const char *text, char *path, size_t size) {
-    snprintf(path, size, "%s/scene%d.cfg", tmpdir, ntmp++);
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        perror(path);
-        exit(2);
-    }
-    fputs(text, f);
-    fclose(f);
-}
-
-static void case_path(const char *rel, char *path, size_t size) {
-    const char *root = getenv("SPHSOLID_SOURCE_DIR");
-    snprintf(path, size, "%s/%s", root ? root : ".", rel);
-}
+static test_scene_dir tmp;
 
 static bool near_rel(double a, double b, double rel) {
     return fabs(a - b) <= rel * fabs(b);
@@ -37,7 +19,7 @@ static bool near_rel(double a, double b, double rel) {
 
 static void test_oscillating_plate(test_counts *c) {
     char path[1024];
-    case_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
+    test_repo_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
@@ -131,7 +113,7 @@ static void test_oscillating_plate(test_counts *c) {
 
 static void test_spinning_plate(test_counts *c) {
     char path[1024];
-    case_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
+    test_repo_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
@@ -156,7 +138,7 @@ static void test_spinning_plate(test_counts *c) {
 
 static void test_overrides(test_counts *c) {
     char path[1024];
-    case_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
+    test_repo_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
     sph_scene s;
     sph_error err = {0};
 
@@ -235,7 +217,7 @@ static void test_overrides(test_counts *c) {
     /* the resolved text is a loadable scene with the same content */
     if (st == SPH_OK) {
         char copy[1024];
-        write_temp(s.resolved_text, copy, sizeof copy);
+        test_scene_write(&tmp, s.resolved_text, copy, sizeof copy);
         sph_scene r;
         sph_status rst = sph_scene_load(&r, copy, NULL, 0, &err);
         CHECK(c, rst == SPH_OK, "reload resolved text: %s", err.msg);
@@ -458,7 +440,7 @@ static void expand(const char *pattern, const char *file, char *out, size_t size
 
 static void test_bad_inputs(test_counts *c) {
     char base_path[1024];
-    write_temp(BASE, base_path, sizeof base_path);
+    test_scene_write(&tmp, BASE, base_path, sizeof base_path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, base_path, NULL, 0, &err);
@@ -470,7 +452,7 @@ static void test_bad_inputs(test_counts *c) {
         char path[1024], text[4096], expect[2048];
         if (row->find) {
             edit(BASE, row->find, row->replace, text, sizeof text);
-            write_temp(text, path, sizeof path);
+            test_scene_write(&tmp, text, path, sizeof path);
         } else {
             snprintf(path, sizeof path, "%s", base_path);
         }
@@ -493,13 +475,13 @@ static void test_bad_inputs(test_counts *c) {
 
     /* a missing file */
     char missing[1024];
-    snprintf(missing, sizeof missing, "%s/no-such.cfg", tmpdir);
+    snprintf(missing, sizeof missing, "%s/no-such.cfg", tmp.dir);
     st = sph_scene_load(&s, missing, NULL, 0, &err);
     char expect[1100];
     snprintf(expect, sizeof expect, "%s: cannot read scene file: No such file or directory",
              missing);
     CHECK(c, st == SPH_ERR_INPUT && strcmp(err.msg, expect) == 0, "missing file: '%s'", err.msg);
-    st = sph_scene_load(&s, tmpdir, NULL, 0, &err);
+    st = sph_scene_load(&s, tmp.dir, NULL, 0, &err);
     CHECK(c, st == SPH_ERR_INPUT && strstr(err.msg, "cannot read scene file"), "directory: '%s'",
           err.msg);
 }
@@ -526,7 +508,7 @@ static void test_features(test_counts *c) {
         "gravity = [0.0, 0.0, -9.81];\n"
         "lattice_origin = [-0.5, -0.5, -0.5];\n";
     char path[1024];
-    write_temp(text, path, sizeof path);
+    test_scene_write(&tmp, text, path, sizeof path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
@@ -563,22 +545,13 @@ static void test_names(test_counts *c) {
 
 int main(void) {
     test_counts c = {0, 0};
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/test_scene.XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        perror("mkdtemp");
-        return 2;
-    }
+    if (test_scene_dir_open(&tmp, "test_scene") != 0) return 2;
     test_oscillating_plate(&c);
     test_spinning_plate(&c);
     test_overrides(&c);
     test_bad_inputs(&c);
     test_features(&c);
     test_names(&c);
-    for (int i = 0; i < ntmp; i++) {
-        char path[512];
-        snprintf(path, sizeof path, "%s/scene%d.cfg", tmpdir, i);
-        unlink(path);
-    }
-    rmdir(tmpdir);
+    test_scene_dir_close(&tmp);
     return test_summary("test_scene", &c);
 }

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* argv[1]: "cpu" or "opencl" (OpenCL takes the first device: pocl in CI). */
 static inline sph_backend_kind test_backend_kind(int argc, char **argv) {
@@ -27,6 +28,46 @@ static inline const char *test_source_dir(void) {
 
 static inline void test_case_path(const char *case_name, char *buf, size_t len) {
     snprintf(buf, len, "%s/cases/%s/scene.cfg", test_source_dir(), case_name);
+}
+
+/* A file of the repository, e.g. "cases/spinning_plate_2d/scene.cfg". */
+static inline void test_repo_path(const char *rel, char *buf, size_t len) {
+    snprintf(buf, len, "%s/%s", test_source_dir(), rel);
+}
+
+/* Scene texts written to a private temporary directory. */
+typedef struct {
+    char dir[256];
+    int count;
+} test_scene_dir;
+
+static inline int test_scene_dir_open(test_scene_dir *d, const char *name) {
+    d->count = 0;
+    snprintf(d->dir, sizeof d->dir, "/tmp/%s.XXXXXX", name);
+    if (mkdtemp(d->dir)) return 0;
+    perror("mkdtemp");
+    return -1;
+}
+
+/* Write `text` to a fresh scene file of the directory; its path into `path`. */
+static inline void test_scene_write(test_scene_dir *d, const char *text, char *path, size_t size) {
+    snprintf(path, size, "%s/scene%d.cfg", d->dir, d->count++);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        perror(path);
+        exit(2);
+    }
+    fputs(text, f);
+    fclose(f);
+}
+
+static inline void test_scene_dir_close(test_scene_dir *d) {
+    for (int i = 0; i < d->count; i++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/scene%d.cfg", d->dir, i);
+        unlink(path);
+    }
+    rmdir(d->dir);
 }
 
 /* A particle set of `n` particles, all of one body, unit density and mass
@@ -52,7 +93,7 @@ static inline int test_particles_alloc(sph_particles *p, int n, int dim, double 
 }
 
 /* Elastic feature set and parameter block for hand-made particle sets. */
-static inline void test_features(sph_features *f, int dim, bool double_precision,
+static inline void test_feature_set(sph_features *f, int dim, bool double_precision,
                                  sph_rotation rotation) {
     memset(f, 0, sizeof *f);
     f->dim = dim;
