@@ -12,13 +12,12 @@ sph_status sph_backend_create(const sph_backend_request *req, const sph_features
                               sph_error *err) {
     *out = NULL;
     if (req->kind == SPH_BACKEND_CPU) {
-        sph_status st = sph_backend_cpu_create(f, prm, n, out, err);
+        sph_status st = sph_backend_cpu_create(req, f, prm, n, out, err);
         if (!st) snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "requested");
         return st;
     }
     if (req->kind == SPH_BACKEND_OPENCL) {
-        sph_status st =
-            sph_backend_opencl_create(req->device_index, f, prm, n, req->quiet, out, err);
+        sph_status st = sph_backend_opencl_create(req, req->device_index, f, prm, n, out, err);
         if (!st) snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "requested");
         return st;
     }
@@ -28,20 +27,34 @@ sph_status sph_backend_create(const sph_backend_request *req, const sph_features
     const int gpu = sph_opencl_find_gpu(reason, sizeof reason);
     if (gpu >= 0) {
         sph_error gpu_err = {0};
-        sph_status st = sph_backend_opencl_create(gpu, f, prm, n, req->quiet, out, &gpu_err);
+        sph_status st = sph_backend_opencl_create(req, gpu, f, prm, n, out, &gpu_err);
         if (!st) {
             snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "%s", reason);
             return SPH_OK;
         }
         sph_format(reason, sizeof reason, "the OpenCL GPU failed to start (%s)", gpu_err.msg);
     }
-    sph_status st = sph_backend_cpu_create(f, prm, n, out, err);
+    sph_status st = sph_backend_cpu_create(req, f, prm, n, out, err);
     if (!st) snprintf((*out)->choice_reason, sizeof(*out)->choice_reason, "%s", reason);
     return st;
 }
 
 void sph_backend_destroy(sph_backend *be) {
     if (be) be->ops->destroy(be);
+}
+
+void sph_backend_profile_add(sph_backend *be, const char *name, double seconds) {
+    for (int k = 0; k < be->nprofile; ++k)
+        if (strcmp(be->profile[k].name, name) == 0) {
+            be->profile[k].calls++;
+            be->profile[k].seconds += seconds;
+            return;
+        }
+    if (be->nprofile >= SPH_MAX_PROFILE_RECORDS) return;
+    sph_profile_record *r = &be->profile[be->nprofile++];
+    snprintf(r->name, sizeof r->name, "%s", name);
+    r->calls = 1;
+    r->seconds = seconds;
 }
 
 void sph_rebuild_info_unpack(const double *reduced, int dim, sph_rebuild_info *info) {

@@ -27,6 +27,7 @@ typedef struct {
     sph_backend_kind kind;
     int device_index; /* OpenCL device (as listed by `sphsolid devices`); -1: choose */
     bool quiet;       /* no build-option/choice messages on stderr */
+    bool profile;     /* time every phase (serialises the device queue) */
 } sph_backend_request;
 
 /* Result of a configuration rebuild. */
@@ -57,6 +58,14 @@ typedef struct {
 } sph_buffer_record;
 #define SPH_MAX_BUFFER_RECORDS 48
 
+/* Time spent per phase (kernel, or host-side step) when profiling. */
+typedef struct {
+    char name[64];
+    long calls;
+    double seconds;
+} sph_profile_record;
+#define SPH_MAX_PROFILE_RECORDS 32
+
 typedef struct sph_backend sph_backend;
 typedef struct {
     sph_status (*upload)(sph_backend *be, const sph_particles *p, sph_error *err);
@@ -82,6 +91,9 @@ struct sph_backend {
     int n;
     int nbuffers;
     sph_buffer_record buffers[SPH_MAX_BUFFER_RECORDS];
+    bool profiling;
+    int nprofile;
+    sph_profile_record profile[SPH_MAX_PROFILE_RECORDS];
     void *impl;
 };
 
@@ -91,14 +103,19 @@ sph_status sph_backend_create(const sph_backend_request *req, const sph_features
                               sph_error *err);
 void sph_backend_destroy(sph_backend *be);
 
-/* Backend constructors (backend_cpu.c, backend_opencl.c). */
-sph_status sph_backend_cpu_create(const sph_features *f, const double prm[PRM_COUNT], int n,
-                                  sph_backend **out, sph_error *err);
-sph_status sph_backend_opencl_create(int platform_device_index, const sph_features *f,
-                                     const double prm[PRM_COUNT], int n, bool quiet,
+/* Backend constructors (backend_cpu.c, backend_opencl.c); the OpenCL one
+ * takes the device index itself (the request's may be -1). */
+sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_features *f,
+                                  const double prm[PRM_COUNT], int n, sph_backend **out,
+                                  sph_error *err);
+sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_index,
+                                     const sph_features *f, const double prm[PRM_COUNT], int n,
                                      sph_backend **out, sph_error *err);
 
 /* Helpers shared by the backends. */
+/* Add `seconds` to the profile record of phase `name`. */
+void sph_backend_profile_add(sph_backend *be, const char *name, double seconds);
+
 /* Unpack the results of the rebuild and diagnostics reductions (component
  * layouts of device/reduction.cl). */
 void sph_rebuild_info_unpack(const double *reduced, int dim, sph_rebuild_info *info);

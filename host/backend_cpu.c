@@ -155,11 +155,21 @@ static void permute_fields(sph_backend *be, cpu_impl *c) {
     }
 }
 
+/* Phase timing when profiling (wall clock of the calling thread). */
+static double phase_start(const sph_backend *be) {
+    return be->profiling ? omp_get_wtime() : 0.0;
+}
+static void phase_end(sph_backend *be, const char *name, double start) {
+    if (be->profiling) sph_backend_profile_add(be, name, omp_get_wtime() - start);
+}
+
 static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error *err) {
     cpu_impl *c = be->impl;
     const int d = be->features.dim;
     double red[2 * 3 + 2];
+    double t0 = phase_start(be);
     c->k->rebuild_reduce(&c->b, red);
+    phase_end(be, "rebuild_reduce", t0);
     sph_rebuild_info_unpack(red, d, info);
 
     sph_grid grid;
@@ -176,11 +186,15 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
                             grid.ncells);
         c->cells_allocated = grid.ncells;
     }
+    t0 = phase_start(be);
     c->k->cell_keys(&c->b, &grid);
     sort_by_cell(c, grid.ncells);
     permute_fields(be, c);
+    phase_end(be, "cell sort and permutation", t0);
     for (;;) {
+        t0 = phase_start(be);
         const int needed = c->k->build_neighbours(&c->b, &grid);
+        phase_end(be, "build_neighbours", t0);
         if (needed == 0) break;
         st = alloc_pairs(be, c, needed + needed / 4 + 2, err);
         if (st) return st;
@@ -192,7 +206,9 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
 static sph_status cpu_substep(sph_backend *be, double dt, double *max_speed2, sph_error *err) {
     (void)err;
     cpu_impl *c = be->impl;
+    const double t0 = phase_start(be);
     c->k->substep(&c->b, dt, max_speed2);
+    phase_end(be, "acoustic substep", t0);
     return SPH_OK;
 }
 
@@ -201,7 +217,9 @@ static sph_status cpu_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     cpu_impl *c = be->impl;
     const int d = be->features.dim;
     double red[2 + 3 + 3];
+    const double t0 = phase_start(be);
     c->k->diagnostics(&c->b, red);
+    phase_end(be, "diagnostics_reduce", t0);
     sph_diagnostics_unpack(red, d, out);
     return SPH_OK;
 }
@@ -273,8 +291,9 @@ static const sph_backend_ops cpu_ops = {
     .destroy = cpu_destroy,
 };
 
-sph_status sph_backend_cpu_create(const sph_features *f, const double prm[PRM_COUNT], int n,
-                                  sph_backend **out, sph_error *err) {
+sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_features *f,
+                                  const double prm[PRM_COUNT], int n, sph_backend **out,
+                                  sph_error *err) {
     *out = NULL;
     sph_backend *be = calloc(1, sizeof *be);
     cpu_impl *c = calloc(1, sizeof *c);
@@ -286,6 +305,7 @@ sph_status sph_backend_cpu_create(const sph_features *f, const double prm[PRM_CO
     be->impl = c;
     be->ops = &cpu_ops;
     be->kind_name = "cpu";
+    be->profiling = req->profile;
     be->features = *f;
     be->n = n;
     sph_fields_layout(f, be->fields);

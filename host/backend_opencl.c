@@ -54,6 +54,7 @@ typedef struct {
 } kernel_set;
 
 typedef struct {
+    sph_backend *be; /* owner, for the profile records */
     sph_opencl_device_info dev;
     cl_context ctx;
     cl_command_queue queue;
@@ -143,11 +144,25 @@ static sph_status launch(ocl_impl *o, sph_cl_kernel *k, size_t global, size_t lo
     sph_status st = sph_cl_kernel_bind(k, o->res, overrides, noverrides, err);
     if (st) return st;
     global = round_up(global, local);
-    const cl_int rc =
-        clEnqueueNDRangeKernel(o->queue, k->kernel, 1, NULL, &global, &local, 0, NULL, NULL);
+    cl_event done = NULL;
+    cl_int rc = clEnqueueNDRangeKernel(o->queue, k->kernel, 1, NULL, &global, &local, 0, NULL,
+                                       o->be->profiling ? &done : NULL);
     if (rc != CL_SUCCESS)
         return sph_fail(err, SPH_ERR_RUNTIME, "launching kernel %s failed: %s", k->name,
                         sph_cl_error_name(rc));
+    if (done) {
+        /* profiling: device time of this launch (serialises the queue) */
+        cl_ulong start = 0, end = 0;
+        rc = clWaitForEvents(1, &done);
+        if (rc == CL_SUCCESS)
+            rc = clGetEventProfilingInfo(done, CL_PROFILING_COMMAND_START, sizeof start, &start,
+                                         NULL);
+        if (rc == CL_SUCCESS)
+            rc = clGetEventProfilingInfo(done, CL_PROFILING_COMMAND_END, sizeof end, &end, NULL);
+        clReleaseEvent(done);
+        if (rc != CL_SUCCESS) return cl_check(rc, "reading kernel profiling data", err);
+        sph_backend_profile_add(o->be, k->name, 1e-9 * (double)(end - start));
+    }
     return SPH_OK;
 }
 
@@ -492,9 +507,10 @@ static size_t pow2_floor(size_t x) {
     return p;
 }
 
-sph_status sph_backend_opencl_create(int device_index, const sph_features *f,
-                                     const double prm[PRM_COUNT], int n, bool quiet,
+sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_index,
+                                     const sph_features *f, const double prm[PRM_COUNT], int n,
                                      sph_backend **out, sph_error *err) {
+    const bool quiet = req->quiet;
     *out = NULL;
     if (device_index < 0) {
         /* --backend opencl without --device: the first GPU, else device 0 */
@@ -510,8 +526,10 @@ sph_status sph_backend_opencl_create(int device_index, const sph_features *f,
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     }
     be->impl = o;
+    o->be = be;
     be->ops = &ocl_ops;
     be->kind_name = "opencl";
+    be->profiling = req->profile;
     be->features = *f;
     be->n = n;
     sph_fields_layout(f, be->fields);
@@ -538,7 +556,8 @@ sph_status sph_backend_opencl_create(int device_index, const sph_features *f,
     cl_int rc;
     o->ctx = clCreateContext(NULL, 1, &o->dev.device, NULL, NULL, &rc);
     if ((st = cl_check(rc, "clCreateContext", err))) goto fail;
-    o->queue = clCreateCommandQueue(o->ctx, o->dev.device, 0, &rc);
+    o->queue = clCreateCommandQueue(o->ctx, o->dev.device,
+                                    be->profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &rc);
     if ((st = cl_check(rc, "clCreateCommandQueue", err))) goto fail;
 
     sph_features_build_options(f, (int)o->wg, (int)o->sort_wg, o->row_major, be->build_options,

@@ -17,18 +17,20 @@
 #include <string.h>
 
 static void usage(FILE *f) {
-    fprintf(f,
-            "usage: sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]\n"
-            "                          [--precision double|single] [--out DIR] [--quiet]\n"
-            "       sphsolid devices\n"
-            "       sphsolid --version\n"
-            "\n"
-            "run       simulate a scene file (see docs/scene-format.md); results go to DIR\n"
-            "          (default: runs/<scene directory name>): timeseries.csv, summary.json\n"
-            "--set     override any scene value, e.g. --set resolution.ratio=30\n"
-            "--backend opencl: an OpenCL device (--device N, see `sphsolid devices`);\n"
-            "          cpu: the native backend.  Default: an OpenCL GPU if present, else cpu\n"
-            "exit status: 0 success, 2 bad input, 1 runtime failure\n");
+    fprintf(
+        f,
+        "usage: sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]\n"
+        "                          [--precision double|single] [--out DIR] [--quiet] [--profile]\n"
+        "       sphsolid devices\n"
+        "       sphsolid --version\n"
+        "\n"
+        "run       simulate a scene file (see docs/scene-format.md); results go to DIR\n"
+        "          (default: runs/<scene directory name>): timeseries.csv, summary.json\n"
+        "--set     override any scene value, e.g. --set resolution.ratio=30\n"
+        "--backend opencl: an OpenCL device (--device N, see `sphsolid devices`);\n"
+        "          cpu: the native backend.  Default: an OpenCL GPU if present, else cpu\n"
+        "--profile time every phase (device kernels, host steps) into summary.json\n"
+        "exit status: 0 success, 2 bad input, 1 runtime failure\n");
 }
 
 static int input_error(const char *fmt, const char *arg) {
@@ -111,6 +113,8 @@ static int cmd_run(int argc, char **argv) {
             out_dir = value;
         } else if (strcmp(a, "--quiet") == 0) {
             opt.quiet = true;
+        } else if (strcmp(a, "--profile") == 0) {
+            opt.backend.profile = true;
         } else if (a[0] == '-') {
             free(overrides);
             return input_error("unknown option %s", a);

@@ -141,6 +141,17 @@ static json_object *summary_json(const sph_simulation *sim) {
     }
     json_object_object_add(mem, "buffers", bufs);
     json_object_object_add(root, "memory", mem);
+    if (be->profiling) {
+        json_object *prof = json_object_new_array();
+        for (int k = 0; k < be->nprofile; ++k) {
+            json_object *o = json_object_new_object();
+            json_object_object_add(o, "phase", json_object_new_string(be->profile[k].name));
+            json_object_object_add(o, "calls", json_object_new_int64(be->profile[k].calls));
+            json_object_object_add(o, "seconds", json_object_new_double(be->profile[k].seconds));
+            json_object_array_add(prof, o);
+        }
+        json_object_object_add(root, "profile", prof);
+    }
 
     json_object_object_add(root, "particle_count", json_object_new_int(sim->particles.n));
     json_object_object_add(root, "acoustic_steps",
