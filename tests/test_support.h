@@ -94,7 +94,7 @@ static inline int test_particles_alloc(sph_particles *p, int n, int dim, double 
 
 /* Elastic feature set and parameter block for hand-made particle sets. */
 static inline void test_feature_set(sph_features *f, int dim, bool double_precision,
-                                 sph_rotation rotation) {
+                                    sph_rotation rotation) {
     memset(f, 0, sizeof *f);
     f->dim = dim;
     f->double_precision = double_precision;
