@@ -96,7 +96,6 @@ FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL
 }
 
 #if SPH_OPENCL
-/* Tree reduction of one work-group; item 0 writes the group's row. */
 /* Tree-combine `value` over the work-group (by max or by sum); the result is
  * in scratch[0] for every item after the call. */
 FN void group_tree(__local real *scratch, const real value, const int by_max) {

@@ -64,6 +64,7 @@ typedef struct {
     cl_mem nbr_count, nbr_j, pair_e, pair_dwv, pair_inv_r, keys, cell_start, cell_end, prm,
         grid_geom, partials, substep_sums, overflow, result;
     cl_int n, npad, cap, gx, gy, gz, ngroups;
+    int substep_ncomp; /* components of the substep reduction (reduction.cl) */
     size_t real_size;
     size_t wg, sort_wg;
     bool row_major;
@@ -178,10 +179,14 @@ static sph_cl_arg real_arg(const ocl_impl *o, const char *name, real_scalar *s, 
                                           : (sph_cl_arg){name, sizeof(float), &s->f};
 }
 
+/* Reads of reduced values (a few reals, every substep) use a stack buffer;
+ * field downloads allocate. */
+#define SMALL_READ 32
 static sph_status read_reals(ocl_impl *o, cl_mem buf, size_t offset, size_t count, double *out,
                              sph_error *err) {
     const size_t bytes = count * o->real_size;
-    void *tmp = malloc(bytes);
+    double small[SMALL_READ];
+    void *tmp = count <= SMALL_READ ? (void *)small : malloc(bytes);
     if (!tmp) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     const cl_int rc = clEnqueueReadBuffer(o->queue, buf, CL_TRUE, offset * o->real_size, bytes, tmp,
                                           0, NULL, NULL);
@@ -189,7 +194,7 @@ static sph_status read_reals(ocl_impl *o, cl_mem buf, size_t offset, size_t coun
         for (size_t k = 0; k < count; ++k)
             out[k] =
                 o->real_size == sizeof(double) ? ((double *)tmp)[k] : (double)((float *)tmp)[k];
-    free(tmp);
+    if (tmp != (void *)small) free(tmp);
     return cl_check(rc, "reading a device buffer", err);
 }
 
@@ -375,14 +380,11 @@ static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sp
     real_scalar dt_s;
     const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
     const size_t items = (size_t)be->n;
-    const int ncomp = be->features.rotation == SPH_ROTATION_AVERAGED
-                          ? 1 + be->features.nbodies * be->features.dim * be->features.dim
-                          : 1;
     sph_status st = launch(o, &o->k.pressure, items, o->wg, &dt_arg, 1, err);
     if (!st) st = launch(o, &o->k.velocity_terms, items, o->wg, &dt_arg, 1, err);
     if (!st)
         st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, &dt_arg, 1, err);
-    if (!st) st = finalize(o, 1, ncomp, o->substep_sums, err);
+    if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
     if (!st) st = read_reals(o, o->substep_sums, 0, 1, max_speed2, err);
     return st;
 }
@@ -552,6 +554,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     o->npad = (cl_int)o->sort_wg;
     while (o->npad < n) o->npad *= 2;
     o->ngroups = (cl_int)((n + (int)o->wg - 1) / (int)o->wg);
+    o->substep_ncomp = f->rotation == SPH_ROTATION_AVERAGED ? 1 + f->nbodies * f->dim * f->dim : 1;
 
     cl_int rc;
     o->ctx = clCreateContext(NULL, 1, &o->dev.device, NULL, NULL, &rc);
