@@ -66,6 +66,9 @@ typedef struct {
 } sph_profile_record;
 #define SPH_MAX_PROFILE_RECORDS 32
 
+/* Length of the carried substep state (see sph_backend_ops). */
+#define SPH_CARRIED_LEN (1 + SPH_MAX_BODIES * 9)
+
 typedef struct sph_backend sph_backend;
 typedef struct {
     sph_status (*upload)(sph_backend *be, const sph_particles *p, sph_error *err);
@@ -77,6 +80,13 @@ typedef struct {
      * int32 and u8 fields in their own type */
     sph_status (*download)(sph_backend *be, sph_field field, void *host, sph_error *err);
     sph_status (*download_neighbours)(sph_backend *be, sph_neighbour_lists *out, sph_error *err);
+    /* the inverse of download, for restarts: overwrite a present field */
+    sph_status (*upload_field)(sph_backend *be, sph_field field, const void *host, sph_error *err);
+    /* State carried from one substep to the next besides the fields: the
+     * substep reduction (max |v|^2, per-body sums of the Rodrigues matrices
+     * that give R-bar), SPH_CARRIED_LEN values.  Checkpoints save it. */
+    sph_status (*download_carried)(sph_backend *be, double *out, sph_error *err);
+    sph_status (*upload_carried)(sph_backend *be, const double *in, sph_error *err);
     void (*destroy)(sph_backend *be);
 } sph_backend_ops;
 

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SUBSTEP_SUMS_LEN  (1 + SPH_MAX_BODIES * 9)
+#define SUBSTEP_SUMS_LEN  SPH_CARRIED_LEN
 #define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
 #define CPU_GROUP         256 /* = SPH_WG of the C build of device/ */
 
@@ -240,6 +240,36 @@ static sph_status cpu_download(sph_backend *be, sph_field f, void *host, sph_err
     return SPH_OK;
 }
 
+static sph_status cpu_upload_field(sph_backend *be, sph_field f, const void *host, sph_error *err) {
+    cpu_impl *c = be->impl;
+    if (!c->b.field[f])
+        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
+                        be->fields[f].name);
+    const sph_field_info *info = &be->fields[f];
+    const size_t count = (size_t)be->n * (size_t)info->components;
+    if (info->type == FIELD_TYPE_REAL) {
+        const double *in = host;
+        for (size_t k = 0; k < count; ++k) set_real(c, c->b.field[f], k, in[k]);
+    } else {
+        memcpy(c->b.field[f], host, field_bytes(be, f));
+    }
+    return SPH_OK;
+}
+
+static sph_status cpu_download_carried(sph_backend *be, double *out, sph_error *err) {
+    (void)err;
+    cpu_impl *c = be->impl;
+    for (int k = 0; k < SPH_CARRIED_LEN; ++k) out[k] = get_real(c, c->b.substep_sums, (size_t)k);
+    return SPH_OK;
+}
+
+static sph_status cpu_upload_carried(sph_backend *be, const double *in, sph_error *err) {
+    (void)err;
+    cpu_impl *c = be->impl;
+    for (int k = 0; k < SPH_CARRIED_LEN; ++k) set_real(c, c->b.substep_sums, (size_t)k, in[k]);
+    return SPH_OK;
+}
+
 static sph_status cpu_download_neighbours(sph_backend *be, sph_neighbour_lists *out,
                                           sph_error *err) {
     cpu_impl *c = be->impl;
@@ -288,6 +318,9 @@ static const sph_backend_ops cpu_ops = {
     .diagnostics = cpu_diagnostics,
     .download = cpu_download,
     .download_neighbours = cpu_download_neighbours,
+    .upload_field = cpu_upload_field,
+    .download_carried = cpu_download_carried,
+    .upload_carried = cpu_upload_carried,
     .destroy = cpu_destroy,
 };
 

@@ -48,6 +48,10 @@ typedef struct {
     void (*riemann_pair)(const double *v_i, const double *v_j, double p_i, double p_j, double z,
                          double dw, const double *e_ij, double *pressure, double *dissipation,
                          double *continuity);
+    /* snapshot fields from rho and tau (host arrays, tau in field layout);
+     * any output may be NULL: pressure [n], von Mises [n], tau [n][6] */
+    void (*stress_output)(const double *prm, int n, const double *rho, const double *tau,
+                          double *pressure, double *von_mises, double *tensor6);
 } cpu_kernels;
 
 extern const cpu_kernels cpu_2d_f64, cpu_2d_f32, cpu_3d_f64, cpu_3d_f32;

@@ -181,6 +181,30 @@ static void probe_riemann_pair(const double *v_i, const double *v_j, double p_i,
     *continuity = (double)riemann_continuity_pair(u, (real)dw);
 }
 
+/* Derived output fields from the state, for snapshots: pressure by the EOS,
+ * von Mises stress of tau - p I, and tau in VTK's symmetric-tensor order
+ * (xx, yy, zz, xy, yz, xz; zero out of plane in 2D).  tau is in the field
+ * layout (component-major, stride n). */
+static void stress_output_impl(const double *prm_in, int n, const double *rho, const double *tau,
+                               double *pressure, double *von_mises_out, double *tensor6) {
+    real prm[PRM_COUNT];
+    params_to_real(prm_in, prm);
+    static const int vtk_a[6] = {0, 1, 2, 0, 1, 0}, vtk_b[6] = {0, 1, 2, 1, 2, 2};
+    for (int i = 0; i < n; ++i) {
+        mat t;
+        for (int a = 0; a < SPH_DIM; ++a)
+            for (int b = 0; b < SPH_DIM; ++b) t.m[a][b] = (real)tau[sym_index(a, b) * n + i];
+        const real p = eos_pressure(prm, (real)rho[i]);
+        if (pressure) pressure[i] = (double)p;
+        if (von_mises_out) von_mises_out[i] = (double)von_mises(t, p);
+        if (tensor6)
+            for (int k = 0; k < 6; ++k)
+                tensor6[(size_t)i * 6 + (size_t)k] = vtk_a[k] < SPH_DIM && vtk_b[k] < SPH_DIM
+                                                         ? (double)t.m[vtk_a[k]][vtk_b[k]]
+                                                         : 0.0;
+    }
+}
+
 const cpu_kernels CPU_VARIANT = {
     .dim = SPH_DIM,
     .double_precision = SPH_DOUBLE,
@@ -193,4 +217,5 @@ const cpu_kernels CPU_VARIANT = {
     .kernel_dw = probe_kernel_dw,
     .rodrigues = probe_rodrigues,
     .riemann_pair = probe_riemann_pair,
+    .stress_output = stress_output_impl,
 };

@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SUBSTEP_SUMS_LEN  (1 + SPH_MAX_BODIES * 9)
+#define SUBSTEP_SUMS_LEN  SPH_CARRIED_LEN
 #define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
 #define RESULT_LEN        16
 
@@ -416,6 +416,29 @@ static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_err
                     "reading a field", err);
 }
 
+static sph_status ocl_upload_field(sph_backend *be, sph_field f, const void *host, sph_error *err) {
+    ocl_impl *o = be->impl;
+    if (!o->field[f])
+        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
+                        be->fields[f].name);
+    const sph_field_info *info = &be->fields[f];
+    if (info->type == FIELD_TYPE_REAL)
+        return write_reals(o, o->field[f], host, (size_t)be->n * (size_t)info->components, err);
+    return cl_check(clEnqueueWriteBuffer(o->queue, o->field[f], CL_TRUE, 0, field_bytes(be, f),
+                                         host, 0, NULL, NULL),
+                    "writing a field", err);
+}
+
+static sph_status ocl_download_carried(sph_backend *be, double *out, sph_error *err) {
+    ocl_impl *o = be->impl;
+    return read_reals(o, o->substep_sums, 0, SPH_CARRIED_LEN, out, err);
+}
+
+static sph_status ocl_upload_carried(sph_backend *be, const double *in, sph_error *err) {
+    ocl_impl *o = be->impl;
+    return write_reals(o, o->substep_sums, in, SPH_CARRIED_LEN, err);
+}
+
 static sph_status ocl_download_neighbours(sph_backend *be, sph_neighbour_lists *out,
                                           sph_error *err) {
     ocl_impl *o = be->impl;
@@ -473,6 +496,9 @@ static const sph_backend_ops ocl_ops = {
     .diagnostics = ocl_diagnostics,
     .download = ocl_download,
     .download_neighbours = ocl_download_neighbours,
+    .upload_field = ocl_upload_field,
+    .download_carried = ocl_download_carried,
+    .upload_carried = ocl_upload_carried,
     .destroy = ocl_destroy,
 };
 

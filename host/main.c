@@ -1,12 +1,19 @@
 /* main.c — the sphsolid command line.
  *
  *   sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]
- *                      [--precision double|single] [--out DIR] [--quiet]
+ *                      [--precision double|single] [--out DIR] [--quiet] [--profile]
+ *                      [--checkpoint-every T] [--checkpoint-wall S] [--progress-interval S]
+ *                      [--plot]
+ *   sphsolid run --restart DIR [--set time.end=T]... [same options]
+ *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
  *   sphsolid devices
  *
- * Exit status: 0 success, 2 bad input (scene file, flags), 1 runtime failure.
+ * Exit status: 0 success, 2 bad input (scene file, flags), 1 runtime failure,
+ * 3 (compare) differences beyond the tolerance.
  */
+#include "compare.h"
 #include "opencl_runtime.h"
+#include "plot.h"
 #include "run.h"
 
 #include <errno.h>
@@ -21,16 +28,27 @@ static void usage(FILE *f) {
         f,
         "usage: sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]\n"
         "                          [--precision double|single] [--out DIR] [--quiet] [--profile]\n"
+        "                          [--checkpoint-every T] [--checkpoint-wall S]\n"
+        "                          [--progress-interval S] [--plot]\n"
+        "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
+        "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
         "       sphsolid devices\n"
         "       sphsolid --version\n"
         "\n"
         "run       simulate a scene file (see docs/scene-format.md); results go to DIR\n"
-        "          (default: runs/<scene directory name>): timeseries.csv, summary.json\n"
+        "          (default: runs/<scene directory name>): timeseries.csv, summary.json,\n"
+        "          snapshots (VTKHDF, open snapshots.hdf.series in ParaView)\n"
         "--set     override any scene value, e.g. --set resolution.ratio=30\n"
         "--backend opencl: an OpenCL device (--device N, see `sphsolid devices`);\n"
         "          cpu: the native backend.  Default: an OpenCL GPU if present, else cpu\n"
         "--profile time every phase (device kernels, host steps) into summary.json\n"
-        "exit status: 0 success, 2 bad input, 1 runtime failure\n");
+        "--checkpoint-every T  write DIR/checkpoint/checkpoint.h5 every T simulated seconds\n"
+        "--checkpoint-wall S   ... or every S seconds of wall time\n"
+        "--restart DIR         continue the run in DIR from its checkpoint (in DIR, or --out)\n"
+        "--progress-interval S seconds between progress lines when stderr is not a terminal\n"
+        "--plot    write PNG plots into DIR/plots after the run (tools/plot_run.py)\n"
+        "compare   per-field maximum differences of two runs' snapshots and time series\n"
+        "exit status: 0 success, 2 bad input, 1 runtime failure, 3 compare: beyond tolerance\n");
 }
 
 static int input_error(const char *fmt, const char *arg) {
@@ -67,11 +85,14 @@ static int cmd_run(int argc, char **argv) {
     if (!overrides) return SPH_ERR_RUNTIME;
     int noverrides = 0;
     const char *out_dir = NULL;
+    bool plot = false;
     for (int k = 0; k < argc; ++k) {
         const char *a = argv[k];
         const char *value = k + 1 < argc ? argv[k + 1] : NULL;
         if (strcmp(a, "--set") == 0 || strcmp(a, "--backend") == 0 || strcmp(a, "--device") == 0 ||
-            strcmp(a, "--precision") == 0 || strcmp(a, "--out") == 0) {
+            strcmp(a, "--precision") == 0 || strcmp(a, "--out") == 0 ||
+            strcmp(a, "--restart") == 0 || strcmp(a, "--checkpoint-every") == 0 ||
+            strcmp(a, "--checkpoint-wall") == 0 || strcmp(a, "--progress-interval") == 0) {
             if (!value) {
                 free(overrides);
                 return input_error("%s needs a value", a);
@@ -111,6 +132,27 @@ static int cmd_run(int argc, char **argv) {
             }
         } else if (strcmp(a, "--out") == 0) {
             out_dir = value;
+        } else if (strcmp(a, "--restart") == 0) {
+            opt.restart_dir = value;
+        } else if (strcmp(a, "--checkpoint-every") == 0 || strcmp(a, "--checkpoint-wall") == 0 ||
+                   strcmp(a, "--progress-interval") == 0) {
+            char *end;
+            errno = 0;
+            const double x = strtod(value, &end);
+            if (errno || *end || !(x > 0) || !isfinite(x)) {
+                free(overrides);
+                fprintf(stderr, "sphsolid: %s %s: expected a positive number of seconds\n", a,
+                        value);
+                return SPH_ERR_INPUT;
+            }
+            if (strcmp(a, "--checkpoint-every") == 0)
+                opt.checkpoint_every = x;
+            else if (strcmp(a, "--checkpoint-wall") == 0)
+                opt.checkpoint_wall = x;
+            else
+                opt.progress_interval = x;
+        } else if (strcmp(a, "--plot") == 0) {
+            plot = true;
         } else if (strcmp(a, "--quiet") == 0) {
             opt.quiet = true;
         } else if (strcmp(a, "--profile") == 0) {
@@ -125,9 +167,15 @@ static int cmd_run(int argc, char **argv) {
             return input_error("unexpected argument %s (one scene per run)", a);
         }
     }
-    if (!opt.scene_path) {
+    if (!opt.scene_path && !opt.restart_dir) {
         free(overrides);
-        return input_error("%s", "run needs a scene file");
+        return input_error("%s", "run needs a scene file (or --restart DIR)");
+    }
+    if (opt.scene_path && opt.restart_dir) {
+        free(overrides);
+        return input_error("--restart %s continues the scene stored in its checkpoint: give no "
+                           "scene file (change the end time with --set time.end=...)",
+                           opt.restart_dir);
     }
     if (opt.backend.kind == SPH_BACKEND_CPU && opt.backend.device_index >= 0) {
         free(overrides);
@@ -135,6 +183,7 @@ static int cmd_run(int argc, char **argv) {
                            "--device selects an OpenCL device; it does not go with --backend cpu");
     }
     char default_dir[PATH_MAX];
+    if (!out_dir && opt.restart_dir) out_dir = opt.restart_dir;
     if (!out_dir) {
         default_out_dir(opt.scene_path, default_dir, sizeof default_dir);
         out_dir = default_dir;
@@ -164,6 +213,11 @@ static int cmd_run(int argc, char **argv) {
     }
     sph_simulation_close(&sim);
     free(overrides);
+    if (!st && plot) {
+        sph_error perr = {0};
+        st = sph_plot_run(out_dir, opt.quiet, &perr);
+        if (st) fprintf(stderr, "sphsolid: %s\n", perr.msg);
+    }
     return (int)st;
 }
 
@@ -186,5 +240,6 @@ int main(int argc, char **argv) {
         return 0;
     }
     if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
+    if (strcmp(argv[1], "compare") == 0) return sph_compare_main(argc - 2, argv + 2);
     return input_error("unknown command '%s'", argv[1]);
 }

@@ -31,7 +31,7 @@ static const char *axis_name(int a) {
 }
 
 sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *scene,
-                           sph_error *err) {
+                           const sph_timeseries *resumed, sph_error *err) {
     memset(out, 0, sizeof *out);
     sph_status st = make_dirs(dir, err);
     if (st) return st;
@@ -40,8 +40,11 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
     snprintf(out->csv_partial, sizeof out->csv_partial, "%s/timeseries.csv.partial", dir);
     char old_summary[1100];
     snprintf(old_summary, sizeof old_summary, "%s/summary.json", dir);
+    char old_checkpoint[1100];
+    snprintf(old_checkpoint, sizeof old_checkpoint, "%s/checkpoint/checkpoint.h5", dir);
     if ((unlink(out->csv_final) != 0 && errno != ENOENT) ||
-        (unlink(old_summary) != 0 && errno != ENOENT))
+        (unlink(old_summary) != 0 && errno != ENOENT) ||
+        (!resumed && unlink(old_checkpoint) != 0 && errno != ENOENT))
         return sph_fail(err, SPH_ERR_RUNTIME, "cannot remove the previous results in %s: %s", dir,
                         strerror(errno));
     out->csv = fopen(out->csv_partial, "w");
@@ -63,6 +66,12 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
     if (ferror(out->csv))
         return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
                         strerror(errno));
+    const size_t per_row = (size_t)(scene->nobservers * scene->dim);
+    for (int k = 0; resumed && k < resumed->count; ++k) {
+        sph_status rst = sph_output_row(out, resumed->time[k], &resumed->diag[k],
+                                        resumed->observers + (size_t)k * per_row, err);
+        if (rst) return rst;
+    }
     return SPH_OK;
 }
 

@@ -9,6 +9,7 @@
 #ifndef SPH_OUTPUT_H
 #define SPH_OUTPUT_H
 
+#include "analysis.h"
 #include "backend.h"
 #include "scene.h"
 
@@ -23,9 +24,11 @@ typedef struct {
     int dim, nobservers;
 } sph_output;
 
-/* Create the directory (with parents), clear old results, start the CSV. */
+/* Create the directory (with parents), clear old results, start the CSV.
+ * A fresh run (`resumed` NULL) also removes an old checkpoint; a restart
+ * writes the rows recorded before its checkpoint first. */
 sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *scene,
-                           sph_error *err);
+                           const sph_timeseries *resumed, sph_error *err);
 sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
                           const double *observers, sph_error *err);
 /* Close the CSV; on success rename it to timeseries.csv. */

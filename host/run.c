@@ -1,6 +1,8 @@
 #include "run.h"
 
+#include "checkpoint.h"
 #include "output.h"
+#include "snapshot.h"
 
 #include <json-c/json.h>
 #include <math.h>
@@ -8,6 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <errno.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #ifndef SPHSOLID_COMMIT
 #    define SPHSOLID_COMMIT ""
@@ -19,12 +24,43 @@ static double now_seconds(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* A restart's scene: the resolved text stored in the checkpoint, with the
+ * overrides a continuation may change (a later end time, other output). */
+static sph_status restart_scene(const sph_run_options *opt, sph_scene *scene, sph_error *err) {
+    if (opt->scene_path)
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "--restart %s continues the scene stored in its checkpoint: give no "
+                        "scene file (change the end time with --set time.end=...)",
+                        opt->restart_dir);
+    for (int k = 0; k < opt->noverrides; ++k) {
+        const char *o = opt->overrides[k];
+        if (strncmp(o, "time.end=", 9) != 0 && strncmp(o, "output.", 7) != 0)
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "--set %s: a restart may change only time.end and output.*; the "
+                            "physics must stay that of the checkpoint",
+                            o);
+    }
+    char *text = NULL;
+    sph_status st = sph_checkpoint_read_scene(opt->restart_dir, &text, err);
+    if (st) return st;
+    char origin[1200];
+    sph_checkpoint_path(opt->restart_dir, origin, sizeof origin);
+    st = sph_scene_load_text(scene, origin, text, opt->overrides, opt->noverrides, err);
+    free(text);
+    return st;
+}
+
 sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, sph_error *err) {
     memset(sim, 0, sizeof *sim);
     sim->options = *opt;
+    sim->restart_time = NAN;
     const double t0 = now_seconds();
-    sph_status st =
-        sph_scene_load(&sim->scene, opt->scene_path, opt->overrides, opt->noverrides, err);
+    sph_status st;
+    if (opt->restart_dir) {
+        st = restart_scene(opt, &sim->scene, err);
+    } else {
+        st = sph_scene_load(&sim->scene, opt->scene_path, opt->overrides, opt->noverrides, err);
+    }
     if (st) return st;
     sim->scene_loaded = true;
     st = sph_particles_generate(&sim->scene, &sim->particles, err);
@@ -55,25 +91,9 @@ static json_object *vector_json(const double *v, int dim) {
     return a;
 }
 
-static json_object *summary_json(const sph_simulation *sim) {
+/* The resolved parameters (summary.json "resolved"; snapshot provenance). */
+static json_object *resolved_json(const sph_simulation *sim) {
     const sph_scene *sc = &sim->scene;
-    const sph_backend *be = sim->backend;
-    json_object *root = json_object_new_object();
-    json_object_object_add(root, "sphsolid_version", json_object_new_string(SPHSOLID_VERSION));
-    json_object_object_add(root, "commit", json_object_new_string(SPHSOLID_COMMIT));
-    json_object_object_add(root, "status", json_object_new_string("completed"));
-
-    json_object *scene = json_object_new_object();
-    json_object_object_add(scene, "path", json_object_new_string(sc->path));
-    json_object_object_add(scene, "title", json_object_new_string(sc->title));
-    json_object *ovr = json_object_new_array();
-    for (int k = 0; k < sim->options.noverrides; ++k)
-        json_object_array_add(ovr, json_object_new_string(sim->options.overrides[k]));
-    json_object_object_add(scene, "overrides", ovr);
-    json_object_object_add(scene, "resolved_text",
-                           json_object_new_string(sc->resolved_text ? sc->resolved_text : ""));
-    json_object_object_add(root, "scene", scene);
-
     json_object *res = json_object_new_object();
     json_object_object_add(res, "dimension", json_object_new_int(sc->dim));
     json_object_object_add(res, "dp", json_object_new_double(sc->dp));
@@ -115,7 +135,29 @@ static json_object *summary_json(const sph_simulation *sim) {
     }
     json_object_object_add(res, "bodies", bodies);
     json_object_object_add(res, "fixed_particles", json_object_new_int(sim->particles.fixed_count));
-    json_object_object_add(root, "resolved", res);
+    return res;
+}
+
+static json_object *summary_json(const sph_simulation *sim) {
+    const sph_scene *sc = &sim->scene;
+    const sph_backend *be = sim->backend;
+    json_object *root = json_object_new_object();
+    json_object_object_add(root, "sphsolid_version", json_object_new_string(SPHSOLID_VERSION));
+    json_object_object_add(root, "commit", json_object_new_string(SPHSOLID_COMMIT));
+    json_object_object_add(root, "status", json_object_new_string("completed"));
+
+    json_object *scene = json_object_new_object();
+    json_object_object_add(scene, "path", json_object_new_string(sc->path));
+    json_object_object_add(scene, "title", json_object_new_string(sc->title));
+    json_object *ovr = json_object_new_array();
+    for (int k = 0; k < sim->options.noverrides; ++k)
+        json_object_array_add(ovr, json_object_new_string(sim->options.overrides[k]));
+    json_object_object_add(scene, "overrides", ovr);
+    json_object_object_add(scene, "resolved_text",
+                           json_object_new_string(sc->resolved_text ? sc->resolved_text : ""));
+    json_object_object_add(root, "scene", scene);
+
+    json_object_object_add(root, "resolved", resolved_json(sim));
 
     json_object_object_add(root, "formulation",
                            json_object_new_string(sph_formulation_name(sc->formulation)));
@@ -154,6 +196,19 @@ static json_object *summary_json(const sph_simulation *sim) {
     }
 
     json_object_object_add(root, "particle_count", json_object_new_int(sim->particles.n));
+    json_object_object_add(root, "snapshots", json_object_new_int(sim->snapshot_count));
+    json_object *fields = json_object_new_array();
+    for (int k = 0; k < SPH_OUT_COUNT; ++k)
+        if (sc->output_field[k])
+            json_object_array_add(
+                fields, json_object_new_string(sph_output_field_name((sph_output_field)k)));
+    json_object_object_add(root, "snapshot_fields", fields);
+    if (isfinite(sim->restart_time)) {
+        json_object *r = json_object_new_object();
+        json_object_object_add(r, "directory", json_object_new_string(sim->options.restart_dir));
+        json_object_object_add(r, "time", json_object_new_double(sim->restart_time));
+        json_object_object_add(root, "restarted_from", r);
+    }
     json_object_object_add(root, "acoustic_steps",
                            json_object_new_int64(sim->stats.acoustic_steps));
     json_object_object_add(root, "advection_steps",
@@ -180,14 +235,100 @@ static json_object *summary_json(const sph_simulation *sim) {
     return root;
 }
 
+/* Copy the snapshots a restart keeps when it writes to another directory. */
+static sph_status copy_kept_snapshots(const char *from, const char *to, int count, sph_error *err) {
+    char sub[1100];
+    snprintf(sub, sizeof sub, "%s/snapshots", to);
+    if (mkdir(sub, 0777) != 0 && errno != EEXIST)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot create %s: %s", sub, strerror(errno));
+    for (int k = 0; k < count; ++k) {
+        char name[64], src[1200], dst[1200], tmp[1300];
+        sph_snapshot_name(k, name, sizeof name);
+        snprintf(src, sizeof src, "%s/%s", from, name);
+        snprintf(dst, sizeof dst, "%s/%s", to, name);
+        snprintf(tmp, sizeof tmp, "%s.partial", dst);
+        FILE *in = fopen(src, "rb");
+        if (!in)
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "cannot read %s (a snapshot the checkpoint "
+                            "lists): %s",
+                            src, strerror(errno));
+        FILE *out = fopen(tmp, "wb");
+        if (!out) {
+            fclose(in);
+            return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", tmp, strerror(errno));
+        }
+        char buf[65536];
+        size_t got;
+        int bad = 0;
+        while (!bad && (got = fread(buf, 1, sizeof buf, in)) > 0)
+            bad = fwrite(buf, 1, got, out) != got;
+        bad = bad || ferror(in);
+        fclose(in);
+        if (fclose(out) != 0 || bad || rename(tmp, dst) != 0) {
+            unlink(tmp);
+            return sph_fail(err, SPH_ERR_RUNTIME, "cannot copy %s to %s: %s", src, dst,
+                            strerror(errno));
+        }
+    }
+    return SPH_OK;
+}
+
 sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
+    const sph_run_options *opt = &sim->options;
     sph_output out;
     sph_output *outp = NULL;
+    sph_snapshots snaps;
+    sph_snapshots *snapp = NULL;
+    sph_checkpoint ck;
+    bool resumed = false;
+    char *parameters = NULL;
     sph_status st = SPH_OK;
-    if (sim->options.out_dir) {
-        st = sph_output_open(&out, sim->options.out_dir, &sim->scene, err);
+    if (opt->restart_dir) {
+        st = sph_checkpoint_read(opt->restart_dir, sim->backend, &ck, &sim->series, err);
         if (st) return st;
-        outp = &out;
+        resumed = true;
+        sim->restart_time = ck.h.time;
+        if (!opt->quiet) {
+            fprintf(stderr, "sphsolid: restarting from t = %.9g s (%s)\n", ck.h.time,
+                    opt->restart_dir);
+            const bool same = strcmp(ck.backend, sim->backend->kind_name) == 0 &&
+                              ck.double_precision == sim->features.double_precision;
+            if (!same)
+                fprintf(stderr,
+                        "sphsolid: note: the checkpoint was written by the %s backend in %s "
+                        "precision; continuing on another backend or precision is not bit-for-bit "
+                        "the uninterrupted run\n",
+                        ck.backend, ck.double_precision ? "double" : "single");
+        }
+    }
+    if (opt->out_dir) {
+        st = sph_output_open(&out, opt->out_dir, &sim->scene, resumed ? &sim->series : NULL, err);
+        if (!st) outp = &out;
+    }
+    if (!st && outp && sim->scene.snapshot_every > 0) {
+        json_object *res = resolved_json(sim);
+        parameters = strdup(json_object_to_json_string_ext(res, JSON_C_TO_STRING_PLAIN));
+        json_object_put(res);
+        const sph_snapshot_context ctx = {
+            .scene = &sim->scene,
+            .initial = &sim->particles,
+            .prm = sim->prm,
+            .commit = SPHSOLID_COMMIT,
+            .backend = sim->backend->kind_name,
+            .device = sim->backend->device_name,
+            .build_options = sim->backend->build_options,
+            .precision = sim->features.double_precision ? "double" : "single",
+            .parameters_json = parameters ? parameters : "{}",
+        };
+        const int keep = resumed ? ck.h.nsnapshots : 0;
+        if (keep > 0 && strcmp(opt->restart_dir, opt->out_dir) != 0)
+            st = copy_kept_snapshots(opt->restart_dir, opt->out_dir, keep, err);
+        if (!st)
+            st = sph_snapshots_open(&snaps, opt->out_dir, &ctx, sim->particles.n,
+                                    sim->features.double_precision, keep,
+                                    resumed ? ck.h.snapshot_times : NULL, err);
+        if (!st) snapp = &snaps;
     }
     const sph_solver_args args = {
         .scene = &sim->scene,
@@ -196,10 +337,22 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
         .prm = sim->prm,
         .observers = &sim->observers,
         .output = outp,
-        .quiet = sim->options.quiet,
-        .max_acoustic_steps = sim->options.max_acoustic_steps,
+        .snapshots = snapp,
+        .run_dir = opt->out_dir,
+        .checkpoint_every = opt->checkpoint_every,
+        .checkpoint_wall = opt->checkpoint_wall,
+        .resume = resumed ? &ck : NULL,
+        .quiet = opt->quiet,
+        .progress_interval = opt->progress_interval > 0 ? opt->progress_interval : 10.0,
+        .max_acoustic_steps = opt->max_acoustic_steps,
     };
-    st = sph_solve(&args, &sim->series, &sim->stats, err);
+    if (!st) st = sph_solve(&args, &sim->series, &sim->stats, err);
+    if (snapp) {
+        sim->snapshot_count = snapp->count;
+        sph_snapshots_close(snapp);
+    }
+    free(parameters);
+    if (resumed) sph_checkpoint_free(&ck);
     /* scale for the linear-momentum drift: total |momentum| magnitude */
     double scale = 0.0;
     for (int i = 0; i < sim->particles.n; ++i) {
@@ -221,7 +374,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
         }
         if (!st) {
             json_object *summary = summary_json(sim);
-            st = sph_output_write_json(sim->options.out_dir, "summary.json", summary, err);
+            st = sph_output_write_json(opt->out_dir, "summary.json", summary, err);
             json_object_put(summary);
         }
     }

@@ -24,9 +24,13 @@ typedef struct {
     int noverrides;
     sph_backend_request backend;
     bool double_precision;
-    const char *out_dir;     /* NULL: no files */
-    bool quiet;              /* no messages on stderr */
-    long max_acoustic_steps; /* > 0: stop early (tests) */
+    const char *out_dir;      /* NULL: no files */
+    const char *restart_dir;  /* continue the run whose checkpoint is in this directory */
+    double checkpoint_every;  /* simulated seconds between checkpoints; 0: none */
+    double checkpoint_wall;   /* wall seconds between checkpoints; 0: none */
+    double progress_interval; /* log-line interval when stderr is not a terminal (s) */
+    bool quiet;               /* no messages on stderr */
+    long max_acoustic_steps;  /* > 0: stop early (tests) */
 } sph_run_options;
 
 typedef struct {
@@ -42,8 +46,13 @@ typedef struct {
     sph_metrics metrics;
     double setup_seconds;
     bool scene_loaded;
+    double restart_time; /* NAN unless restarted */
+    int snapshot_count;
 } sph_simulation;
 
+/* With options.restart_dir the scene is the one stored in that run's
+ * checkpoint (options.scene_path must be NULL); overrides may change only
+ * time.end and output.* there. */
 sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, sph_error *err);
 sph_status sph_simulation_run(sph_simulation *sim, sph_error *err);
 void sph_simulation_close(sph_simulation *sim);

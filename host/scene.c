@@ -564,6 +564,14 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
         config_setting_t *child = path_step(parent, comp);
         size_t wl = strlen(walked);
         snprintf(walked + wl, sizeof walked - wl, "%s%s", wl ? "." : "", comp);
+        /* optional groups a scene may leave out are created on demand, so
+         * that e.g. --set output.snapshot_interval=0 works on any scene */
+        static const char *const optional_groups[] = {"output", "analysis", "analysis.period"};
+        for (size_t g = 0; !child && config_setting_is_group(parent) &&
+                           g < sizeof optional_groups / sizeof optional_groups[0];
+             ++g)
+            if (strcmp(walked, optional_groups[g]) == 0)
+                child = config_setting_add(parent, comp, CONFIG_TYPE_GROUP);
         if (!child) {
             st = OV_FAIL("--set %s: %s: no such setting in the scene, so it cannot hold '%s'", ov,
                          walked, next);
@@ -1159,13 +1167,85 @@ static sph_status parse_analysis(loader *L, const config_setting_t *root) {
     return get_axis(L, p, "axis", true, 0, &sc->period_axis);
 }
 
+static const char *const OUTPUT_FIELD_NAMES[SPH_OUT_COUNT] = {
+    "velocity",  "displacement", "density", "pressure",
+    "von_mises", "shear_stress", "body_id", "particle_id"};
+
+const char *sph_output_field_name(sph_output_field f) {
+    return (unsigned)f < SPH_OUT_COUNT ? OUTPUT_FIELD_NAMES[f] : "?";
+}
+
+/* output = { snapshot_interval; fields = [...]; } (docs/output-format.md) */
+static sph_status parse_output(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g, *at = NULL;
+    sph_status st = get_group(L, root, "output", false, &g);
+    if (st) return st;
+    static const sph_output_field defaults[] = {
+        SPH_OUT_VELOCITY,  SPH_OUT_DISPLACEMENT, SPH_OUT_DENSITY,    SPH_OUT_PRESSURE,
+        SPH_OUT_VON_MISES, SPH_OUT_BODY_ID,      SPH_OUT_PARTICLE_ID};
+    for (size_t k = 0; k < sizeof defaults / sizeof defaults[0]; ++k)
+        sc->output_field[defaults[k]] = true;
+    sc->snapshot_interval = 10.0 * sc->output_interval;
+    if (g) {
+        if ((st = check_keys(L, g, KEYS("snapshot_interval", "fields"))) ||
+            (st = get_float(L, g, "snapshot_interval", false, sc->snapshot_interval, 0, false,
+                            INFINITY, false, &sc->snapshot_interval)) ||
+            (st = get_member(L, g, "fields", false, &at)))
+            return st;
+    }
+    if (at) {
+        if (!config_setting_is_array(at) && !config_setting_is_list(at))
+            return fail_at(L, at, NULL,
+                           "expected an array of field names [\"velocity\", ...], got %s",
+                           type_name(config_setting_type(at)));
+        memset(sc->output_field, 0, sizeof sc->output_field);
+        const int n = config_setting_length(at);
+        for (int i = 0; i < n; i++) {
+            const config_setting_t *e = config_setting_get_elem(at, (unsigned)i);
+            const char *name = "";
+            if ((st = as_string(L, e, &name))) return st;
+            int found = -1;
+            for (int k = 0; k < SPH_OUT_COUNT; k++)
+                if (strcmp(name, OUTPUT_FIELD_NAMES[k]) == 0) found = k;
+            if (found < 0) {
+                char hint[512];
+                const char *extra = strcmp(name, "plastic_strain") == 0
+                                        ? " (plastic_strain needs a plastic material, and this "
+                                          "scene's materials are elastic)"
+                                        : "";
+                suggest(name, OUTPUT_FIELD_NAMES, SPH_OUT_COUNT, "fields", hint, sizeof hint);
+                return fail_at(L, e, NULL, "unknown output field '%s'%s%s", name, extra, hint);
+            }
+            if (sc->output_field[found])
+                return fail_at(L, e, NULL, "field '%s' is listed twice", name);
+            sc->output_field[found] = true;
+        }
+    }
+    /* snapshots fall on output times: the solver lands exactly on those */
+    if (sc->snapshot_interval > 0) {
+        const double ratio = sc->snapshot_interval / sc->output_interval;
+        const double whole = round(ratio);
+        if (whole < 1 || fabs(ratio - whole) > 1e-9 * whole) {
+            const config_setting_t *si =
+                g ? config_setting_get_member(g, "snapshot_interval") : NULL;
+            return fail_at(L, si ? si : (g ? g : root), si ? NULL : "snapshot_interval",
+                           "must be a whole multiple of time.output_interval (%g), or 0 for no "
+                           "snapshots, got %g",
+                           sc->output_interval, sc->snapshot_interval);
+        }
+        sc->snapshot_every = (int)whole;
+    }
+    return SPH_OK;
+}
+
 static sph_status parse_scene(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     sph_status st;
     if ((st = check_keys(L, root,
                          KEYS("title", "dimension", "resolution", "method", "time", "materials",
                               "shapes", "bodies", "observers", "analysis", "gravity",
-                              "lattice_origin"))))
+                              "lattice_origin", "output"))))
         return st;
 
     const config_setting_t *at;
@@ -1185,7 +1265,8 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
     if ((st = parse_resolution(L, root)) || (st = parse_method(L, root)) ||
         (st = parse_time(L, root)) || (st = parse_materials(L, root)) ||
         (st = parse_shapes(L, root)) || (st = parse_bodies(L, root)) ||
-        (st = parse_observers(L, root)) || (st = parse_analysis(L, root)))
+        (st = parse_observers(L, root)) || (st = parse_analysis(L, root)) ||
+        (st = parse_output(L, root)))
         return st;
     if ((st = get_vector(L, root, "gravity", false, sc->dim, sc->gravity, NULL)) ||
         (st = get_vector(L, root, "lattice_origin", false, sc->dim, sc->lattice_origin, &at)))
@@ -1252,8 +1333,10 @@ static sph_status write_resolved(sph_scene *scene, const config_t *cfg, sph_erro
     return SPH_OK;
 }
 
-sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const *overrides,
-                          int noverrides, sph_error *err) {
+/* Load from a file (`text` NULL) or from scene text (restarts: the text
+ * stored in a checkpoint, `path` naming where it came from). */
+static sph_status load(sph_scene *scene, const char *path, const char *text,
+                       const char *const *overrides, int noverrides, sph_error *err) {
     memset(scene, 0, sizeof *scene);
     scene->period_observer = -1;
     scene->acceleration_criterion = true;
@@ -1265,7 +1348,14 @@ sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const 
     loader L = {.file = path, .err = err, .scene = scene};
     config_t cfg;
     config_init(&cfg);
-    sph_status st = read_scene_file(&L, &cfg, path);
+    sph_status st = SPH_OK;
+    if (!text) {
+        st = read_scene_file(&L, &cfg, path);
+    } else if (config_read_string(&cfg, text) != CONFIG_TRUE) {
+        st = sph_fail(err, SPH_ERR_INPUT, "%s:%d: the stored scene does not parse: %s", path,
+                      config_error_line(&cfg),
+                      config_error_text(&cfg) ? config_error_text(&cfg) : "syntax error");
+    }
     for (int i = 0; st == SPH_OK && i < noverrides; i++)
         st = apply_override(&L, &cfg, overrides[i]);
     if (st == SPH_OK) st = write_resolved(scene, &cfg, err);
@@ -1276,6 +1366,16 @@ sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const 
         scene->resolved_text = NULL;
     }
     return st;
+}
+
+sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const *overrides,
+                          int noverrides, sph_error *err) {
+    return load(scene, path, NULL, overrides, noverrides, err);
+}
+
+sph_status sph_scene_load_text(sph_scene *scene, const char *origin, const char *text,
+                               const char *const *overrides, int noverrides, sph_error *err) {
+    return load(scene, origin, text, overrides, noverrides, err);
 }
 
 void sph_scene_free(sph_scene *scene) {

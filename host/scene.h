@@ -93,6 +93,19 @@ typedef struct {
     double position[3];
 } sph_observer;
 
+/* Point data of the snapshots (docs/output-format.md); order = file order. */
+typedef enum {
+    SPH_OUT_VELOCITY,
+    SPH_OUT_DISPLACEMENT,
+    SPH_OUT_DENSITY,
+    SPH_OUT_PRESSURE,
+    SPH_OUT_VON_MISES,
+    SPH_OUT_SHEAR_STRESS,
+    SPH_OUT_BODY_ID,
+    SPH_OUT_PARTICLE_ID,
+    SPH_OUT_COUNT
+} sph_output_field;
+
 typedef struct {
     char path[SPH_SCENE_PATH_LEN]; /* the scene file as given */
     char *resolved_text;           /* the scene after overrides, libconfig syntax (owned) */
@@ -130,6 +143,11 @@ typedef struct {
     int nobservers;
     sph_observer observers[SPH_SCENE_MAX_OBSERVERS];
 
+    /* snapshots: every `snapshot_every` output times (0: none) and at the end */
+    double snapshot_interval;
+    int snapshot_every;
+    bool output_field[SPH_OUT_COUNT];
+
     /* analysis: first oscillation period of an observer's coordinate */
     int period_observer; /* -1: none */
     int period_axis;
@@ -138,6 +156,10 @@ typedef struct {
 /* Parse, override, validate.  `overrides` are "key=value" strings. */
 sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const *overrides,
                           int noverrides, sph_error *err);
+/* The same from scene text (a checkpoint's resolved scene); `origin` names
+ * it in messages. */
+sph_status sph_scene_load_text(sph_scene *scene, const char *origin, const char *text,
+                               const char *const *overrides, int noverrides, sph_error *err);
 void sph_scene_free(sph_scene *scene);
 
 /* Geometry queries on the scene's shape table. */
@@ -148,5 +170,6 @@ const char *sph_formulation_name(sph_formulation f);
 const char *sph_rotation_name(sph_rotation r);
 const char *sph_kernel_name(sph_kernel k);
 const char *sph_stepping_name(sph_stepping s);
+const char *sph_output_field_name(sph_output_field f);
 
 #endif

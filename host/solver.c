@@ -1,5 +1,6 @@
 #include "solver.h"
 
+#include "progress.h"
 #include "sph_constants.h"
 
 #include <math.h>
@@ -42,15 +43,27 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
     return st;
 }
 
-static void progress(const sph_solver_args *a, double t, const sph_run_stats *s, double elapsed) {
-    const double end = a->scene->end_time;
-    const double rate =
-        elapsed > 0 ? (double)a->backend->n * (double)s->acoustic_steps / elapsed : 0;
-    const double eta = t > 0 ? elapsed * (end - t) / t : 0;
-    fprintf(stderr,
-            "sphsolid: t = %.4g / %.4g s (%.0f%%), %ld acoustic / %ld advection steps, %.3g M "
-            "particle-substeps/s, ETA %.0f s\n",
-            t, end, 100.0 * t / end, s->acoustic_steps, s->advection_steps, rate / 1e6, eta);
+/* Write a checkpoint of the state at this advection-step boundary. */
+static sph_status checkpoint(const sph_solver_args *a, double t, double max_speed2,
+                             long output_index, const sph_run_stats *stats,
+                             const sph_timeseries *ts, sph_error *err) {
+    sph_checkpoint_header h = {0};
+    h.time = t;
+    h.max_speed2 = max_speed2;
+    h.output_index = output_index;
+    h.acoustic_steps = stats->acoustic_steps;
+    h.advection_steps = stats->advection_steps;
+    sph_status st = SPH_OK;
+    if (a->snapshots) {
+        /* HDF5 is called from one thread at a time */
+        st = sph_snapshots_wait(a->snapshots, err);
+        h.nsnapshots = a->snapshots->count;
+        h.snapshot_times = a->snapshots->times;
+    }
+    if (!st) st = a->backend->ops->download_carried(a->backend, h.carried, err);
+    if (!st)
+        st = sph_checkpoint_write(a->run_dir, a->backend, &h, ts, a->scene->resolved_text, err);
+    return st;
 }
 
 sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats *stats,
@@ -92,15 +105,38 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     stats->reference_speed = u_ref;
 
     const double t0 = now_seconds();
-    double last_report = t0;
     sph_rebuild_info info;
+    double t = 0.0, max_speed2 = 0.0;
+    long output_index = 0;
     sph_status st = be->ops->upload(be, a->initial, err);
-    if (!st) st = be->ops->rebuild(be, &info, err);
-    if (!st) st = sample(a, &s, 0.0, ts, err);
-
-    double t = 0.0, max_speed2 = info.max_speed2;
-    long output_index = 1;
-    double next_output = fmin(sc->output_interval, sc->end_time);
+    if (a->resume) {
+        /* the stored state replaces the initial one; the rebuild then starts
+         * from the same particle order the interrupted run had */
+        const sph_checkpoint *ck = a->resume;
+        if (!st) st = sph_checkpoint_restore(ck, be, err);
+        if (!st) st = be->ops->rebuild(be, &info, err);
+        t = ck->h.time;
+        max_speed2 = ck->h.max_speed2;
+        output_index = ck->h.output_index;
+        stats->acoustic_steps = ck->h.acoustic_steps;
+        stats->advection_steps = ck->h.advection_steps;
+    } else {
+        if (!st) st = be->ops->rebuild(be, &info, err);
+        max_speed2 = info.max_speed2;
+        if (!st) st = sample(a, &s, 0.0, ts, err);
+        if (!st && a->snapshots) st = sph_snapshots_write(a->snapshots, be, 0.0, 0, 0, err);
+        output_index = 1;
+    }
+    const long start_steps = stats->acoustic_steps;
+    sph_progress progress;
+    sph_progress_init(&progress, stderr, !a->quiet, a->progress_interval, t0, t,
+                      stats->acoustic_steps);
+    double next_output = fmin((double)output_index * sc->output_interval, sc->end_time);
+    const bool checkpoints = a->run_dir && (a->checkpoint_every > 0 || a->checkpoint_wall > 0);
+    double next_checkpoint = a->checkpoint_every > 0
+                                 ? (floor(t / a->checkpoint_every) + 1) * a->checkpoint_every
+                                 : INFINITY;
+    double last_checkpoint_wall = t0;
     bool stop = false;
     while (!st && !stop && t < sc->end_time) {
         /* one advection step */
@@ -129,7 +165,8 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                               t, stats->acoustic_steps);
                 break;
             }
-            if (a->max_acoustic_steps > 0 && stats->acoustic_steps >= a->max_acoustic_steps) {
+            if (a->max_acoustic_steps > 0 &&
+                stats->acoustic_steps - start_steps >= a->max_acoustic_steps) {
                 stop = true;
                 break;
             }
@@ -139,20 +176,43 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         stats->advection_steps++;
         if (at_output) {
             st = sample(a, &s, t, ts, err);
+            const bool last = t >= sc->end_time;
+            if (!st && a->snapshots && sc->snapshot_every > 0 &&
+                (output_index % sc->snapshot_every == 0 || last))
+                st = sph_snapshots_write(a->snapshots, be, t, stats->acoustic_steps,
+                                         stats->advection_steps, err);
             ++output_index;
             next_output = fmin((double)output_index * sc->output_interval, sc->end_time);
         }
+        const double wall = now_seconds();
+        if (!st && checkpoints &&
+            (t >= next_checkpoint || t >= sc->end_time ||
+             (a->checkpoint_wall > 0 && wall - last_checkpoint_wall >= a->checkpoint_wall))) {
+            st = checkpoint(a, t, max_speed2, output_index, stats, ts, err);
+            last_checkpoint_wall = now_seconds();
+            while (next_checkpoint <= t) next_checkpoint += a->checkpoint_every;
+        }
         if (!st && !stop && t < sc->end_time) st = be->ops->rebuild(be, &info, err);
-        if (!a->quiet && now_seconds() - last_report > 5.0) {
-            last_report = now_seconds();
-            progress(a, t, stats, last_report - t0);
+        sph_progress_update(&progress, wall, t, sc->end_time, stats->acoustic_steps,
+                            stats->advection_steps, n, false);
+    }
+    if (!st && !stop)
+        sph_progress_update(&progress, now_seconds(), t, sc->end_time, stats->acoustic_steps,
+                            stats->advection_steps, n, true);
+    sph_progress_finish(&progress);
+    if (a->snapshots) {
+        sph_error werr;
+        const sph_status wst = sph_snapshots_wait(a->snapshots, &werr);
+        if (!st && wst) {
+            *err = werr;
+            st = wst;
         }
     }
     stats->wall_seconds = now_seconds() - t0;
     stats->end_time = t;
     if (stats->wall_seconds > 0)
         stats->particle_substeps_per_second =
-            (double)n * (double)stats->acoustic_steps / stats->wall_seconds;
+            (double)n * (double)(stats->acoustic_steps - start_steps) / stats->wall_seconds;
     free(s.obs);
     free(s.pos);
     free(s.id);

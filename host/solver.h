@@ -19,9 +19,11 @@
 
 #include "analysis.h"
 #include "backend.h"
+#include "checkpoint.h"
 #include "observers.h"
 #include "output.h"
 #include "scene.h"
+#include "snapshot.h"
 
 #include <stdbool.h>
 
@@ -39,9 +41,15 @@ typedef struct {
     const sph_particles *initial;
     const double *prm;
     const sph_observer_set *observers;
-    sph_output *output;      /* NULL: no files */
-    bool quiet;              /* no progress lines */
-    long max_acoustic_steps; /* > 0: stop after this many (tests) */
+    sph_output *output;           /* NULL: no files */
+    sph_snapshots *snapshots;     /* NULL: none */
+    const char *run_dir;          /* checkpoints go to run_dir/checkpoint */
+    double checkpoint_every;      /* simulated seconds between checkpoints; 0: none */
+    double checkpoint_wall;       /* wall seconds between checkpoints; 0: none */
+    const sph_checkpoint *resume; /* continue from this state (restart) */
+    bool quiet;                   /* no progress lines */
+    double progress_interval;     /* seconds between log lines when stderr is not a terminal */
+    long max_acoustic_steps;      /* > 0: stop after this many (tests) */
 } sph_solver_args;
 
 sph_status sph_solve(const sph_solver_args *args, sph_timeseries *ts, sph_run_stats *stats,

@@ -9,20 +9,8 @@ import subprocess
 import sys
 import tempfile
 
-BIN = os.environ["SPHSOLID_BIN"]
-SRC = os.environ["SPHSOLID_SOURCE_DIR"]
-PLATE = os.path.join(SRC, "cases", "oscillating_plate_2d", "scene.cfg")
-
-passed = failed = 0
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAILED:", what, file=sys.stderr)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphtest import BIN, PLATE, SRC, check, finish  # noqa: E402
 
 
 def run(args, cwd):
@@ -113,5 +101,4 @@ try:
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 
-print(f"test_cli: {passed} passed, {failed} failed")
-sys.exit(1 if failed else 0)
+finish("test_cli")

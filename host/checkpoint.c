@@ -1,0 +1,274 @@
+#include "checkpoint.h"
+
+#include "hdf5_file.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define CHECKPOINT_FORMAT 1
+#define DIAG_VALUES       8 /* kinetic, strain, momentum[3], angular[3] */
+
+void sph_checkpoint_path(const char *run_dir, char *buf, size_t len) {
+    snprintf(buf, len, "%s/checkpoint/checkpoint.h5", run_dir);
+}
+
+static void diag_pack(const sph_diagnostics *d, double *out) {
+    out[0] = d->kinetic;
+    out[1] = d->strain;
+    for (int a = 0; a < 3; ++a) {
+        out[2 + a] = d->momentum[a];
+        out[5 + a] = d->angular[a];
+    }
+}
+
+static void diag_unpack(const double *in, sph_diagnostics *d) {
+    d->kinetic = in[0];
+    d->strain = in[1];
+    for (int a = 0; a < 3; ++a) {
+        d->momentum[a] = in[2 + a];
+        d->angular[a] = in[5 + a];
+    }
+}
+
+static hid_t field_memtype(sph_field_type t) {
+    return t == FIELD_TYPE_REAL ? H5T_NATIVE_DOUBLE
+                                : (t == FIELD_TYPE_INT32 ? H5T_NATIVE_INT32 : H5T_NATIVE_UINT8);
+}
+
+static size_t field_host_size(sph_field_type t) {
+    return t == FIELD_TYPE_REAL ? sizeof(double)
+                                : (t == FIELD_TYPE_INT32 ? sizeof(int32_t) : sizeof(uint8_t));
+}
+
+static sph_status write_fields(const sph_h5_writer *w, sph_backend *be, sph_error *err) {
+    hid_t g;
+    sph_status st = sph_h5_group(w, w->file, "fields", &g, err);
+    if (st) return st;
+    void *scratch = NULL;
+    for (int f = 0; !st && f < FIELD_COUNT; ++f) {
+        const sph_field_info *info = &be->fields[f];
+        if (!info->present) continue;
+        const size_t count = (size_t)be->n * (size_t)info->components;
+        void *buf = realloc(scratch, count * sizeof(double));
+        if (!buf) {
+            st = sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for a checkpoint");
+            break;
+        }
+        scratch = buf;
+        st = be->ops->download(be, (sph_field)f, scratch, err);
+        if (st) break;
+        /* reals are stored in the run's precision: the restore is exact */
+        const hid_t filetype =
+            info->type == FIELD_TYPE_REAL
+                ? (be->features.double_precision ? H5T_IEEE_F64LE : H5T_IEEE_F32LE)
+                : (info->type == FIELD_TYPE_INT32 ? H5T_STD_I32LE : H5T_STD_U8LE);
+        const hsize_t dims[1] = {(hsize_t)count};
+        st = sph_h5_write(w, g, info->name, field_memtype(info->type), filetype, 1, dims, scratch,
+                          err);
+    }
+    free(scratch);
+    H5Gclose(g);
+    return st;
+}
+
+static sph_status write_series(const sph_h5_writer *w, const sph_timeseries *ts, sph_error *err) {
+    const hsize_t count = (hsize_t)ts->count;
+    const size_t per_row = (size_t)(ts->nobservers * ts->dim);
+    double *diag = malloc((size_t)count * DIAG_VALUES * sizeof(double) + 1);
+    if (!diag) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for a checkpoint");
+    for (hsize_t k = 0; k < count; ++k) diag_pack(&ts->diag[k], diag + k * DIAG_VALUES);
+    const hsize_t d1[1] = {count}, d2[2] = {count, DIAG_VALUES},
+                  d3[2] = {count, (hsize_t)(per_row > 0 ? per_row : 1)};
+    sph_status st = sph_h5_write(w, w->file, "series_time", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1,
+                                 d1, ts->time, err);
+    if (!st)
+        st = sph_h5_write(w, w->file, "series_diagnostics", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 2,
+                          d2, diag, err);
+    if (!st && per_row > 0)
+        st = sph_h5_write(w, w->file, "series_observers", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 2, d3,
+                          ts->observers, err);
+    free(diag);
+    return st;
+}
+
+sph_status sph_checkpoint_write(const char *run_dir, sph_backend *be,
+                                const sph_checkpoint_header *h, const sph_timeseries *ts,
+                                const char *scene_text, sph_error *err) {
+    char dir[1100], path[1200];
+    snprintf(dir, sizeof dir, "%s/checkpoint", run_dir);
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot create %s: %s", dir, strerror(errno));
+    sph_checkpoint_path(run_dir, path, sizeof path);
+    sph_h5_writer w;
+    sph_status st = sph_h5_create(&w, path, err);
+    if (st) return st;
+    const hid_t root = w.file;
+    const int64_t ints[] = {CHECKPOINT_FORMAT,
+                            be->n,
+                            h->output_index,
+                            h->acoustic_steps,
+                            h->advection_steps,
+                            h->nsnapshots,
+                            be->features.double_precision};
+    const char *names[] = {"format",          "particles",      "output_index",    "acoustic_steps",
+                           "advection_steps", "snapshot_count", "double_precision"};
+    for (size_t k = 0; !st && k < sizeof ints / sizeof ints[0]; ++k)
+        st = sph_h5_attr_int64s(&w, root, names[k], &ints[k], 1, err);
+    if (!st) st = sph_h5_attr_double(&w, root, "time", h->time, err);
+    if (!st) st = sph_h5_attr_double(&w, root, "max_speed2", h->max_speed2, err);
+    if (!st) st = sph_h5_attr_string(&w, root, "backend", be->kind_name, err);
+    if (!st) st = sph_h5_attr_string(&w, root, "sphsolid_version", SPHSOLID_VERSION, err);
+    if (!st) {
+        /* the scene as a dataset: attributes are limited to 64 KiB */
+        const hsize_t len[1] = {strlen(scene_text) + 1};
+        st = sph_h5_write(&w, root, "scene_text", H5T_NATIVE_CHAR, H5T_NATIVE_CHAR, 1, len,
+                          scene_text, err);
+    }
+    double carried[SPH_CARRIED_LEN];
+    memcpy(carried, h->carried, sizeof carried);
+    const hsize_t clen[1] = {SPH_CARRIED_LEN}, slen[1] = {(hsize_t)h->nsnapshots};
+    if (!st)
+        st = sph_h5_write(&w, root, "carried", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, clen, carried,
+                          err);
+    if (!st && h->nsnapshots > 0)
+        st = sph_h5_write(&w, root, "snapshot_times", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, slen,
+                          h->snapshot_times, err);
+    if (!st) st = write_series(&w, ts, err);
+    if (!st) st = write_fields(&w, be, err);
+    if (st) {
+        sph_h5_abandon(&w);
+        return st;
+    }
+    return sph_h5_commit(&w, true, err);
+}
+
+sph_status sph_checkpoint_read_scene(const char *run_dir, char **scene_text, sph_error *err) {
+    char path[1200];
+    sph_checkpoint_path(run_dir, path, sizeof path);
+    *scene_text = NULL;
+    hid_t file;
+    sph_status st = sph_h5_open_read(path, &file, err);
+    if (st) return st;
+    size_t len = 0;
+    st = sph_h5_size(file, path, "scene_text", &len, err);
+    char *text = st ? NULL : calloc(len + 1, 1);
+    if (!st && !text) st = sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    if (!st) st = sph_h5_read(file, path, "scene_text", H5T_NATIVE_CHAR, text, len, err);
+    H5Fclose(file);
+    if (st) {
+        free(text);
+        return st;
+    }
+    *scene_text = text;
+    return SPH_OK;
+}
+
+static sph_status read_int(hid_t f, const char *path, const char *name, long *out, sph_error *err) {
+    int64_t v = 0;
+    sph_status st = sph_h5_read_attr_int64(f, path, name, &v, err);
+    *out = (long)v;
+    return st;
+}
+
+sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_checkpoint *ck,
+                               sph_timeseries *ts, sph_error *err) {
+    memset(ck, 0, sizeof *ck);
+    char path[1200];
+    sph_checkpoint_path(run_dir, path, sizeof path);
+    hid_t f;
+    sph_status st = sph_h5_open_read(path, &f, err);
+    if (st) return st;
+    long format = 0, n = 0, nsnap = 0, dp = 0;
+    char *backend = NULL;
+    st = read_int(f, path, "format", &format, err);
+    if (!st && format != CHECKPOINT_FORMAT)
+        st = sph_fail(err, SPH_ERR_INPUT, "%s: checkpoint format %ld, this sphsolid reads %d", path,
+                      format, CHECKPOINT_FORMAT);
+    if (!st) st = read_int(f, path, "particles", &n, err);
+    if (!st && n != be->n)
+        st = sph_fail(err, SPH_ERR_INPUT,
+                      "%s: the checkpoint has %ld particles, the scene makes %d", path, n, be->n);
+    if (!st) st = read_int(f, path, "output_index", &ck->h.output_index, err);
+    if (!st) st = read_int(f, path, "acoustic_steps", &ck->h.acoustic_steps, err);
+    if (!st) st = read_int(f, path, "advection_steps", &ck->h.advection_steps, err);
+    if (!st) st = read_int(f, path, "snapshot_count", &nsnap, err);
+    if (!st) st = read_int(f, path, "double_precision", &dp, err);
+    if (!st) st = sph_h5_read_attr_double(f, path, "time", &ck->h.time, err);
+    if (!st) st = sph_h5_read_attr_double(f, path, "max_speed2", &ck->h.max_speed2, err);
+    if (!st) st = sph_h5_read_attr_string(f, path, "backend", &backend, err);
+    if (!st) {
+        snprintf(ck->backend, sizeof ck->backend, "%s", backend);
+        ck->n = (int)n;
+        ck->double_precision = dp != 0;
+        st =
+            sph_h5_read(f, path, "carried", H5T_NATIVE_DOUBLE, ck->h.carried, SPH_CARRIED_LEN, err);
+    }
+    free(backend);
+    if (!st && nsnap > 0) {
+        ck->h.nsnapshots = (int)nsnap;
+        ck->h.snapshot_times = malloc((size_t)nsnap * sizeof(double));
+        st = ck->h.snapshot_times ? sph_h5_read(f, path, "snapshot_times", H5T_NATIVE_DOUBLE,
+                                                ck->h.snapshot_times, (size_t)nsnap, err)
+                                  : sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
+    /* the series */
+    size_t rows = 0;
+    if (!st) st = sph_h5_size(f, path, "series_time", &rows, err);
+    const size_t per_row = (size_t)(ts->nobservers * ts->dim);
+    double *time = NULL, *diag = NULL, *obs = NULL;
+    if (!st) {
+        time = malloc(rows * sizeof(double) + 1);
+        diag = malloc(rows * DIAG_VALUES * sizeof(double) + 1);
+        obs = calloc(rows * per_row + 1, sizeof(double));
+        if (!time || !diag || !obs) st = sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
+    if (!st) st = sph_h5_read(f, path, "series_time", H5T_NATIVE_DOUBLE, time, rows, err);
+    if (!st)
+        st = sph_h5_read(f, path, "series_diagnostics", H5T_NATIVE_DOUBLE, diag, rows * DIAG_VALUES,
+                         err);
+    if (!st && per_row > 0)
+        st = sph_h5_read(f, path, "series_observers", H5T_NATIVE_DOUBLE, obs, rows * per_row, err);
+    for (size_t k = 0; !st && k < rows; ++k) {
+        sph_diagnostics d;
+        diag_unpack(diag + k * DIAG_VALUES, &d);
+        st = sph_timeseries_append(ts, time[k], &d, obs + k * per_row, err);
+    }
+    free(time);
+    free(diag);
+    free(obs);
+    /* the fields */
+    const hid_t g = st ? -1 : H5Gopen2(f, "fields", H5P_DEFAULT);
+    if (!st && g < 0) st = sph_fail(err, SPH_ERR_INPUT, "%s: no group 'fields'", path);
+    for (int k = 0; !st && k < FIELD_COUNT; ++k) {
+        const sph_field_info *info = &be->fields[k];
+        if (!info->present) continue;
+        const size_t count = (size_t)be->n * (size_t)info->components;
+        ck->field[k] = malloc(count * field_host_size(info->type));
+        if (!ck->field[k]) {
+            st = sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+            break;
+        }
+        st = sph_h5_read(g, path, info->name, field_memtype(info->type), ck->field[k], count, err);
+    }
+    if (g >= 0) H5Gclose(g);
+    H5Fclose(f);
+    if (st) sph_checkpoint_free(ck);
+    return st;
+}
+
+sph_status sph_checkpoint_restore(const sph_checkpoint *ck, sph_backend *be, sph_error *err) {
+    sph_status st = SPH_OK;
+    for (int k = 0; !st && k < FIELD_COUNT; ++k)
+        if (be->fields[k].present) st = be->ops->upload_field(be, (sph_field)k, ck->field[k], err);
+    if (!st) st = be->ops->upload_carried(be, ck->h.carried, err);
+    return st;
+}
+
+void sph_checkpoint_free(sph_checkpoint *ck) {
+    for (int k = 0; k < FIELD_COUNT; ++k) free(ck->field[k]);
+    free(ck->h.snapshot_times);
+    memset(ck, 0, sizeof *ck);
+}

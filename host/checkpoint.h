@@ -1,0 +1,60 @@
+/* checkpoint.h — the complete state of a run at an advection-step boundary.
+ *
+ * A checkpoint holds every present per-particle field in the backend's
+ * current order (the order the next configuration rebuild starts from), the
+ * state carried between substeps (max |v|^2 and the R-bar sums), the time
+ * loop's counters, the recorded time series and snapshot times, and the
+ * resolved scene text.  Restoring it and rebuilding reproduces the
+ * uninterrupted run bit for bit on the same backend and precision: the
+ * rebuild's sort is deterministic given the same order, and checkpoints are
+ * taken at boundaries the run passes anyway (they never shorten a step).
+ *
+ * The file is DIR/checkpoint/checkpoint.h5, written through a temporary name,
+ * synced and renamed (hdf5_file.h): a run killed while writing keeps the
+ * previous checkpoint.
+ */
+#ifndef SPH_CHECKPOINT_H
+#define SPH_CHECKPOINT_H
+
+#include "analysis.h"
+#include "backend.h"
+
+#include <stdbool.h>
+
+typedef struct {
+    double time;
+    double max_speed2; /* from the last substep: sizes the next one */
+    long output_index; /* index of the next output time */
+    long acoustic_steps, advection_steps;
+    int nsnapshots; /* snapshots written so far */
+    double *snapshot_times;
+    double carried[SPH_CARRIED_LEN];
+} sph_checkpoint_header;
+
+typedef struct {
+    sph_checkpoint_header h;
+    int n;
+    bool double_precision;
+    char backend[32];
+    void *field[FIELD_COUNT]; /* host copies (reals as double) */
+} sph_checkpoint;
+
+/* "DIR/checkpoint/checkpoint.h5" */
+void sph_checkpoint_path(const char *run_dir, char *buf, size_t len);
+
+sph_status sph_checkpoint_write(const char *run_dir, sph_backend *be,
+                                const sph_checkpoint_header *h, const sph_timeseries *ts,
+                                const char *scene_text, sph_error *err);
+
+/* The resolved scene stored in a run's checkpoint (malloc'ed). */
+sph_status sph_checkpoint_read_scene(const char *run_dir, char **scene_text, sph_error *err);
+
+/* The state, for a backend of the same scene (`be` gives the field layout);
+ * the series is appended to `ts`. */
+sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_checkpoint *ck,
+                               sph_timeseries *ts, sph_error *err);
+/* Put the fields and the carried state into the backend. */
+sph_status sph_checkpoint_restore(const sph_checkpoint *ck, sph_backend *be, sph_error *err);
+void sph_checkpoint_free(sph_checkpoint *ck);
+
+#endif

@@ -1,0 +1,152 @@
+#!/usr/bin/python3
+"""test_restart.py BACKEND — checkpoint and restart.
+
+A run killed with SIGKILL and restarted from its last checkpoint equals the
+uninterrupted run bit for bit (snapshots, time series, step counts) on the
+same backend and precision; a run killed while it writes a checkpoint keeps
+the previous checkpoint, which still restarts to the same bits; restarts
+refuse a scene file or a change of physics; `sphsolid compare` passes on the
+identical runs and fails on a perturbed copy, naming the field and particle.
+"""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphtest import BIN, PLATE, SRC, check, finish  # noqa: E402
+
+BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
+END = "0.2"
+COMMON = ["--backend", BACKEND, "--quiet", "--set", "time.end=" + END,
+          "--set", "output.snapshot_interval=0.05"]
+
+
+def run(args, env=None):
+    return subprocess.run([BIN] + args, capture_output=True, text=True, timeout=900, env=env)
+
+
+def checkpoint_time(d):
+    with h5py.File(os.path.join(d, "checkpoint", "checkpoint.h5"), "r") as f:
+        return float(f.attrs["time"])
+
+
+def start_and_kill(args, ready, env=None, limit=600):
+    """Start sphsolid, wait until ready() is true, then SIGKILL it.  Returns
+    True when it was killed (False: it finished first)."""
+    p = subprocess.Popen([BIN] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                         env=env)
+    t0 = time.time()
+    while p.poll() is None and not ready() and time.time() - t0 < limit:
+        time.sleep(0.01)
+    killed = p.poll() is None
+    if killed:
+        p.send_signal(signal.SIGKILL)
+    p.wait()
+    return killed
+
+
+def same_results(a, b, what):
+    c = run(["compare", a, b, "--rtol", "0", "--atol", "0"])
+    check(c.returncode == 0, "%s: compare --rtol 0 exit %d\n%s%s" % (what, c.returncode, c.stdout,
+                                                                     c.stderr))
+    ta = open(os.path.join(a, "timeseries.csv")).read()
+    tb = open(os.path.join(b, "timeseries.csv")).read()
+    check(ta == tb, "%s: timeseries.csv byte-identical" % what)
+    sa = json.load(open(os.path.join(a, "summary.json")))
+    sb = json.load(open(os.path.join(b, "summary.json")))
+    for k in ("acoustic_steps", "advection_steps", "snapshots"):
+        check(sa[k] == sb[k], "%s: %s %s == %s" % (what, k, sa[k], sb[k]))
+    check(sa["metrics"]["first_period"] == sb["metrics"]["first_period"] or
+          (sa["metrics"]["first_period"] is None and sb["metrics"]["first_period"] is None),
+          "%s: same metrics" % what)
+    return sb
+
+
+tmp = tempfile.mkdtemp(prefix="sphsolid-restart-")
+try:
+    # the uninterrupted run, without checkpoints: checkpoints must not change it
+    ref = os.path.join(tmp, "ref")
+    p = run(["run", PLATE, "--out", ref] + COMMON)
+    check(p.returncode == 0, "reference run: %s" % p.stderr)
+
+    # killed after its first checkpoint, then restarted in place
+    a = os.path.join(tmp, "killed")
+    ck = os.path.join(a, "checkpoint", "checkpoint.h5")
+    killed = start_and_kill(["run", PLATE, "--out", a, "--checkpoint-every", "0.04"] + COMMON,
+                            lambda: os.path.exists(ck))
+    check(killed, "the run was killed before it finished")
+    check(not os.path.exists(os.path.join(a, "summary.json")) and
+          not os.path.exists(os.path.join(a, "timeseries.csv")),
+          "a killed run leaves no summary.json or timeseries.csv")
+    t_ck = checkpoint_time(a)
+    check(0 < t_ck < float(END), "checkpoint at t = %g inside the run" % t_ck)
+    p = run(["run", "--restart", a, "--backend", BACKEND, "--quiet", "--checkpoint-every", "0.04"])
+    check(p.returncode == 0, "restart: %s" % p.stderr)
+    sb = same_results(ref, a, "kill -9 and restart")
+    check(abs(sb.get("restarted_from", {}).get("time", -1) - t_ck) < 1e-15,
+          "summary records the restart time")
+    check(abs(checkpoint_time(a) - float(END)) < 1e-15, "a final checkpoint at the end time")
+
+    # killed while writing a checkpoint: the previous one survives and restarts
+    b = os.path.join(tmp, "killed_in_write")
+    ckb = os.path.join(b, "checkpoint", "checkpoint.h5")
+    killed = start_and_kill(["run", PLATE, "--out", b, "--checkpoint-every", "0.04"] + COMMON,
+                            lambda: os.path.exists(ckb))
+    t_before = checkpoint_time(b)
+    env = dict(os.environ, SPHSOLID_TEST_CHECKPOINT_DELAY="120")
+    killed_in_write = start_and_kill(
+        ["run", "--restart", b, "--backend", BACKEND, "--quiet", "--checkpoint-every", "0.04"],
+        lambda: os.path.exists(ckb + ".partial"), env=env)
+    check(killed and killed_in_write, "killed twice, the second time inside a checkpoint write")
+    check(os.path.exists(ckb + ".partial"), "the interrupted checkpoint is left as .partial only")
+    check(checkpoint_time(b) == t_before,
+          "the previous checkpoint (t = %g) is intact, got %g" % (t_before, checkpoint_time(b)))
+    p = run(["run", "--restart", b, "--backend", BACKEND, "--quiet"])
+    check(p.returncode == 0, "restart after a kill during a write: %s" % p.stderr)
+    same_results(ref, b, "kill during a checkpoint write and restart")
+
+    # restart into another directory, extending the end time
+    c = os.path.join(tmp, "extended")
+    p = run(["run", "--restart", a, "--out", c, "--backend", BACKEND, "--quiet", "--set",
+             "time.end=0.25"])
+    check(p.returncode == 0, "restart with a later end time into another directory: %s" % p.stderr)
+    series = json.load(open(os.path.join(c, "snapshots.hdf.series")))
+    check([f["time"] for f in series["files"]] == [0.0, 0.05, 0.1, 0.15, 0.2, 0.25],
+          "the continued run lists the copied and the new snapshots")
+    check(all(os.path.exists(os.path.join(c, f["name"])) for f in series["files"]),
+          "every listed snapshot is in the new directory")
+
+    # restarts that cannot be honoured: exit 2 with the reason
+    for args, needle in [
+        (["run", PLATE, "--restart", a], "give no scene file"),
+        (["run", "--restart", a, "--set", "method.formulation=enog"], "only time.end and output"),
+        (["run", "--restart", os.path.join(tmp, "nowhere")], "checkpoint.h5"),
+        (["run", "--restart", ref], "checkpoint.h5"),
+    ]:
+        p = run(args)
+        check(p.returncode == 2 and needle in p.stderr,
+              "%s: exit 2 mentioning %r, got %d: %s" % (args, needle, p.returncode, p.stderr.strip()))
+
+    # compare fails on a perturbed copy, naming the field and the particle
+    d = os.path.join(tmp, "perturbed")
+    shutil.copytree(ref, d)
+    with h5py.File(os.path.join(d, "snapshots", "snapshot_000002.hdf"), "r+") as f:
+        v = f["VTKHDF/PointData/velocity"]
+        row = v[1234]
+        row[1] += 1e-6  # m/s: about 1e-6 of the largest speed
+        v[1234] = row
+    p = run(["compare", ref, d])
+    check(p.returncode == 3 and "velocity" in p.stdout and "particle 1234" in p.stdout,
+          "compare names the perturbed field and particle, exit %d:\n%s" % (p.returncode, p.stdout))
+finally:
+    shutil.rmtree(tmp, ignore_errors=True)
+
+finish("test_restart (%s)" % BACKEND)
