@@ -30,6 +30,9 @@
 #include "sph_riemann.h"
 #include "sph_rotation.h"
 #include "sph_elasticity.h"
+#include "sph_plasticity.h"
+#include "sph_artificial_stress.h"
+#include "sph_smoothing_kernel.h"
 
 #if SPH_HAS_ROTATION_AVG
 #    define ROTATION_AVG_PARAMS                                                                    \
@@ -51,6 +54,28 @@
 #else
 #    define CLAMP_PARAMS
 #endif
+/* buffers of the stress-divergence formulations (OG, OAS, GNOG, GNOG-A) */
+#if SPH_HAS_STRESS_DIV
+#    define STRESS_DIV_PARAMS , GLOBAL const real *restrict acc_stress
+#else
+#    define STRESS_DIV_PARAMS
+#endif
+#if SPH_HAS_PENALTY
+#    define GRADV_OUT_PARAMS , GLOBAL real *restrict gradv
+#else
+#    define GRADV_OUT_PARAMS
+#endif
+#if SPH_HAS_ART_STRESS
+#    define ART_OUT_PARAMS , GLOBAL real *restrict art_stress
+#else
+#    define ART_OUT_PARAMS
+#endif
+#if SPH_HAS_PLASTICITY
+#    define PLASTIC_OUT_PARAMS                                                                     \
+        , GLOBAL real *restrict plastic_strain, GLOBAL real *restrict penalty_scale
+#else
+#    define PLASTIC_OUT_PARAMS
+#endif
 
 FN vec pair_direction(GLOBAL const real *restrict pair_e, const int stride, const int slot) {
     vec e;
@@ -68,15 +93,38 @@ FN mat mean_rotation(CONSTANT real *prm, GLOBAL const real *restrict substep_sum
     return r;
 }
 
-KERNEL void
-acoustic_pressure(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
-                  GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
-                  GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-                  GLOBAL const real *restrict rho, GLOBAL const real *restrict drho,
-                  GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
-                  GLOBAL const real *restrict acc_diss, GLOBAL real *restrict acc_shear,
-                  GLOBAL real *restrict pos,
-                  GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS) {
+#if SPH_HAS_ROTATION_AVG
+#    define DACC_ARG dacc_shear
+#else
+#    define DACC_ARG 0
+#endif
+/* Add this substep's increment da to an accumulated acceleration a (the
+ * ENOG shear acceleration, 000 eq. 24, or the GNOG penalty, 003 eq. 47):
+ * a += da unrotated; a = R_i a + da with the particle's own Rodrigues matrix
+ * (003 eq. 34); or, averaged, da waits in dacc for R-bar, applied as
+ * a = R-bar (a + da) at the next acoustic_pressure (003 eqs. 41-42). */
+FN void accumulate_increment(GLOBAL real *restrict acc, GLOBAL real *restrict dacc, const int n,
+                             const int i, const vec da, const mat grad_v, const int rotation,
+                             const real dt) {
+    if (rotation == ROTATION_NONE) {
+        vec_store(acc, n, i, vec_add(vec_load(acc, n, i), da));
+    } else if (rotation == ROTATION_PER_PARTICLE) {
+        const mat rot = rodrigues(spin_of(grad_v), dt);
+        vec_store(acc, n, i, vec_add(mat_vec(rot, vec_load(acc, n, i)), da));
+    } else if (PRESENT(dacc)) {
+        vec_store(dacc, n, i, da);
+    }
+}
+
+KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real dt,
+                              CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
+                              GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
+                              GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict rho,
+                              GLOBAL const real *restrict drho, GLOBAL const real *restrict mass,
+                              GLOBAL const real *restrict vol, GLOBAL const real *restrict acc_diss,
+                              GLOBAL real *restrict acc_shear, GLOBAL real *restrict pos,
+                              GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS
+                                  STRESS_DIV_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -111,6 +159,10 @@ acoustic_pressure(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT
     }
 #endif
 
+#if SPH_HAS_STRESS_DIV
+    /* stress divergence of the last substep (000 eq. 17, 003 eq. 45) */
+    if (PRESENT(acc_stress)) a_s = vec_add(a_s, vec_load(acc_stress, n, i));
+#endif
     const vec v_old = vec_load(vel, n, i);
     vec acc = vec_add(a_p, a_s);
     for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
@@ -135,7 +187,8 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
                         GLOBAL const real *restrict bmat, GLOBAL real *restrict rho,
                         GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss,
                         GLOBAL real *restrict tau,
-                        GLOBAL real *restrict acc_shear ROTATION_AVG_SPIN_PARAMS) {
+                        GLOBAL real *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS
+                            ART_OUT_PARAMS PLASTIC_OUT_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -172,25 +225,163 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
     /* L_i = -sum v_ij (x) (B_i grad W) V_j = -(sum v_ij (x) e dW V_j) B_i^T, B symmetric */
     const mat grad_v = mat_scale(mat_mul(grad_sum, sym_load(bmat, n, i)), R(-1));
     const real shear_modulus = prm[PRM_G];
-    sym_store(tau, n, i, jaumann_update(sym_load(tau, n, i), grad_v, shear_modulus, dt));
-
-    /* SPH-ENOG shear-acceleration increment (000 eq. 24 / 003 eq. 28) */
-    const vec da = vec_scale(laplacian, dt * R(2) * prm[PRM_XI_E] * shear_modulus / rho_half);
+    const int formulation = RUNTIME_FORMULATION;
+    (void)shear_modulus; /* used by the features compiled in below */
+    (void)formulation;
+#if SPH_HAS_PLASTICITY
+    real ratio;
+    const mat tau_new =
+        shear_stress_update(sym_load(tau, n, i), grad_v, prm, dt, plastic_strain, i, &ratio);
+    if (PRESENT(penalty_scale)) penalty_scale[i] = ratio;
+#else
+    const mat tau_new = jaumann_update(sym_load(tau, n, i), grad_v, shear_modulus, dt);
+#endif
+    sym_store(tau, n, i, tau_new);
+#if SPH_HAS_ART_STRESS
+    if (formulation == FORMULATION_OAS && PRESENT(art_stress))
+        sym_store(art_stress, n, i,
+                  artificial_stress(tau_new, eos_pressure(prm, rho[i]), rho[i], prm[PRM_ART_EPS]));
+#endif
+#if SPH_HAS_PENALTY
+    /* GNOG(-A): L_j enters the linear velocity prediction of the pair (003 eq. 44) */
+    if (FORM_HAS_PENALTY(formulation) && PRESENT(gradv)) mat_store(gradv, n, i, grad_v);
+#endif
     const int rotation = RUNTIME_ROTATION;
-    if (rotation == ROTATION_NONE) {
-        vec_store(acc_shear, n, i, vec_add(vec_load(acc_shear, n, i), da));
-    } else if (rotation == ROTATION_PER_PARTICLE) {
-        const mat rot = rodrigues(spin_of(grad_v), dt);
-        vec_store(acc_shear, n, i, vec_add(mat_vec(rot, vec_load(acc_shear, n, i)), da));
-    }
+    (void)rotation;
 #if SPH_HAS_ROTATION_AVG
-    else if (PRESENT(spin)) {
-        /* averaged: the increment waits for Rbar (reduced over the body,
-         * applied at the start of the next acoustic_pressure) */
+    if (rotation == ROTATION_AVERAGED && PRESENT(spin)) {
+        /* the spin of this substep: its Rodrigues matrices are summed over
+         * the body into Rbar (reduction.cl), applied at the start of the next
+         * acoustic_pressure to the accumulated a^s plus the increment */
         real w[NSPIN];
         spin_components(spin_of(grad_v), w);
         for (int a = 0; a < NSPIN; ++a) spin[a * n + i] = w[a];
-        vec_store(dacc_shear, n, i, da);
+    }
+#endif
+#if SPH_HAS_ENOG
+    if (FORM_IS_ENOG(formulation)) {
+        /* SPH-ENOG shear-acceleration increment (000 eq. 24 / 003 eq. 28) */
+        const vec da = vec_scale(laplacian, dt * R(2) * prm[PRM_XI_E] * shear_modulus / rho_half);
+        accumulate_increment(acc_shear, DACC_ARG, n, i, da, grad_v, rotation, dt);
     }
 #endif
 }
+
+#if SPH_HAS_STRESS_DIV
+#    if SPH_HAS_PENALTY
+#        define PENALTY_PARAMS                                                                     \
+            , GLOBAL const real *restrict vel, GLOBAL const real *restrict gradv,                  \
+                GLOBAL real *restrict acc_shear
+#    else
+#        define PENALTY_PARAMS
+#    endif
+#    if SPH_HAS_ART_STRESS
+#        define ART_IN_PARAMS , GLOBAL const real *restrict art_stress
+#    else
+#        define ART_IN_PARAMS
+#    endif
+#    if SPH_HAS_PLASTICITY && SPH_HAS_PENALTY
+#        define PENALTY_SCALE_PARAMS , GLOBAL const real *restrict penalty_scale
+#    else
+#        define PENALTY_SCALE_PARAMS
+#    endif
+#    if SPH_HAS_ROTATION_AVG && SPH_HAS_PENALTY
+#        define PENALTY_AVG_PARAMS , GLOBAL real *restrict dacc_shear
+#    else
+#        define PENALTY_AVG_PARAMS
+#    endif
+/* Third pass of the stress-divergence formulations, after the stress update
+ * of acoustic_velocity_terms (neighbours read the updated tau and L):
+ *   a^sigma_i = 1/rho_i sum_j (tau_i + tau_j) . grad_i W_ij V_j
+ *     (000 eq. 17, 003 eq. 45; used by the next substep's velocity update),
+ *   SPH-OAS: + sum_j m_j f_ij^n (R_i + R_j) . grad_i W_ij (Gray et al. 2001),
+ *   SPH-GNOG: penalty increment
+ *     da = dt xi_G G / rho_i sum_j s_ij vhat_ij / r_ij dW_ij V_j   (003 eq. 43)
+ *   SPH-GNOG-A: the projected form (003 eqs. 46, 48-49)
+ *     da = dt xi_G G / rho_i sum_j s_ij (vhat_ij . e_ij) / r_ij dW_ij V_j e_ij
+ *   with vhat_ij = v_ij - (L_i + L_j) r_ij / 2 (eq. 44) and s_ij the mean of
+ *   the particles' penalty scales (1, or the J2 return ratio when yielding),
+ *   accumulated as a^ = a^ + da (GNOG), R_i a^ + da (per-particle rotation)
+ *   or, averaged, Rbar (a^ + da) at the next acoustic_pressure (eq. 47). */
+KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const real dt,
+                                 CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
+                                 GLOBAL const int *restrict nbr_j,
+                                 GLOBAL const real *restrict pair_e,
+                                 GLOBAL const real *restrict pair_dwv,
+                                 GLOBAL const real *restrict pair_inv_r,
+                                 GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+                                 GLOBAL const real *restrict rho, GLOBAL const real *restrict tau,
+                                 GLOBAL real *restrict acc_stress PENALTY_PARAMS ART_IN_PARAMS
+                                     PENALTY_SCALE_PARAMS PENALTY_AVG_PARAMS) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int stride = n * cap;
+    const int formulation = RUNTIME_FORMULATION;
+    (void)formulation; /* OG compiles in neither the artificial stress nor the penalty */
+    const mat tau_i = sym_load(tau, n, i);
+    vec stress = vec_zero();
+#    if SPH_HAS_ART_STRESS
+    const bool art = formulation == FORMULATION_OAS && PRESENT(art_stress);
+    const mat art_i = art ? sym_load(art_stress, n, i) : mat_zero();
+    vec art_sum = vec_zero();
+    const real inv_wdp = R(1) / prm[PRM_ART_WDP], art_n = prm[PRM_ART_N];
+#    endif
+#    if SPH_HAS_PENALTY
+    const bool penalty = FORM_HAS_PENALTY(formulation) && PRESENT(gradv);
+    const bool projected = formulation == FORMULATION_GNOG_A;
+    const vec v_i = penalty ? vec_load(vel, n, i) : vec_zero();
+    const mat l_i = penalty ? mat_load(gradv, n, i) : mat_zero();
+    real s_i = R(1);
+#        if SPH_HAS_PLASTICITY
+    if (PRESENT(penalty_scale)) s_i = penalty_scale[i];
+#        endif
+    vec pen_sum = vec_zero();
+#    endif
+    const int count = nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        const vec e = pair_direction(pair_e, stride, slot);
+        const real dwv = pair_dwv[slot];
+        /* (tau_i + tau_j) . grad_i W V_j, grad_i W V_j = dW V_j e_ij */
+        stress = vec_axpy(stress, dwv, mat_vec(mat_add(tau_i, sym_load(tau, n, j)), e));
+#    if SPH_HAS_ART_STRESS
+        if (art) {
+            const real w = kernel_w(prm, R(1) / pair_inv_r[slot]) * inv_wdp;
+            real fn = R(1);
+            for (int m = 0; m < (int)art_n; ++m) fn *= w; /* n is a whole number (4) */
+            art_sum = vec_axpy(art_sum, rho[j] * fn * dwv,
+                               mat_vec(mat_add(art_i, sym_load(art_stress, n, j)), e));
+        }
+#    endif
+#    if SPH_HAS_PENALTY
+        if (penalty) {
+            const real inv_r = pair_inv_r[slot];
+            const vec r_ij = vec_scale(e, R(1) / inv_r);
+            const mat l_mean = mat_scale(mat_add(l_i, mat_load(gradv, n, j)), R(0.5));
+            const vec v_hat =
+                vec_sub(vec_sub(v_i, vec_load(vel, n, j)), mat_vec(l_mean, r_ij)); /* eq. 44 */
+            real s_ij = s_i;
+#        if SPH_HAS_PLASTICITY
+            if (PRESENT(penalty_scale)) s_ij = R(0.5) * (s_i + penalty_scale[j]);
+#        endif
+            const real weight = s_ij * dwv * inv_r;
+            pen_sum = projected ? vec_axpy(pen_sum, weight * vec_dot(v_hat, e), e)
+                                : vec_axpy(pen_sum, weight, v_hat);
+        }
+#    endif
+    }
+    const real inv_rho = vol[i] / mass[i];
+    vec a_sigma = vec_scale(stress, inv_rho);
+#    if SPH_HAS_ART_STRESS
+    if (art) a_sigma = vec_add(a_sigma, art_sum);
+#    endif
+    vec_store(acc_stress, n, i, a_sigma);
+#    if SPH_HAS_PENALTY
+    if (penalty) {
+        const vec da = vec_scale(pen_sum, dt * prm[PRM_XI_G] * prm[PRM_G] / rho[i]);
+        accumulate_increment(acc_shear, DACC_ARG, n, i, da, l_i, RUNTIME_ROTATION, dt);
+    }
+#    endif
+}
+#endif

@@ -94,6 +94,26 @@ FN mat correction_matrix(const mat a) {
     return mat_mul(mat_inverse(ata), mat_transpose(a));
 }
 
+/* TLSPH keeps B of t = 0 for the whole run, and its deformation gradient must
+ * reproduce a uniform deformation to round-off (the patch test of 002 §2.2.1):
+ * the Tikhonov term leaves A B = I - O(eps / lambda^2), about 1e-8 here.  One
+ * Newton-Schulz step B <- B (2I - A B) squares that error and keeps B bounded
+ * (at most twice the Tikhonov value) on a degenerate support. */
+FN mat refine_correction(const mat a, const mat b) {
+    mat r = mat_scale(mat_mul(a, b), R(-1));
+    for (int d = 0; d < SPH_DIM; ++d) r.m[d][d] += R(2);
+    return mat_mul(b, r);
+}
+
+#if SPH_HAS_TLSPH
+/* TLSPH's hourglass force weighs each pair by W(X_ij) V0_j / X_ij^2 of the
+ * reference configuration (002): stored once, so the kernel's cost does not
+ * enter the substeps (Laguerre-Gauss costs the same per step as Wendland) */
+#    define PAIR_W_PARAMS , GLOBAL real *restrict pair_w
+#else
+#    define PAIR_W_PARAMS
+#endif
+
 KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT real *prm,
                              GLOBAL const real *restrict pos, GLOBAL const real *restrict vol,
                              GLOBAL const real *restrict grid_geom, const int gx, const int gy,
@@ -101,7 +121,8 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
                              GLOBAL const int *restrict cell_end, GLOBAL int *restrict nbr_count,
                              GLOBAL int *restrict nbr_j, GLOBAL real *restrict pair_e,
                              GLOBAL real *restrict pair_dwv, GLOBAL real *restrict pair_inv_r,
-                             GLOBAL real *restrict bmat, GLOBAL int *restrict overflow) {
+                             GLOBAL real *restrict bmat,
+                             GLOBAL int *restrict overflow PAIR_W_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -151,6 +172,9 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
                     for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
                     pair_dwv[slot] = dwv;
                     pair_inv_r[slot] = R(1) / r;
+#if SPH_HAS_TLSPH
+                    if (PRESENT(pair_w)) pair_w[slot] = kernel_w(prm, r) * vol[j] / r2;
+#endif
                 }
                 /* A_i = -sum r_ij dW V_j e (x) e, 003 eq. 21 */
                 moment = mat_add_outer(moment, -r * dwv, e, e);
@@ -159,7 +183,9 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
         }
     if (count > cap) ATOMIC_MAX_INT(overflow, count);
     nbr_count[i] = count < cap ? count : cap;
-    sym_store(bmat, n, i, correction_matrix(moment));
+    mat b = correction_matrix(moment);
+    if (RUNTIME_FORMULATION == FORMULATION_TLSPH) b = refine_correction(moment, b);
+    sym_store(bmat, n, i, b);
 }
 
 #if SPH_OPENCL

@@ -5,14 +5,26 @@
 #define SPH_CONSTANTS_H
 
 /* Discrete feature values, shared by host and device. */
-#define KERNEL_WENDLAND_C2 0
+#define KERNEL_WENDLAND_C2       0 /* 000, 003: h = 1.3 dp, cut-off 2h */
+#define KERNEL_LAGUERRE_GAUSS    1 /* 004 eq. 8, truncated at 2h */
+#define KERNEL_LAGUERRE_WENDLAND 2 /* Litvinov et al. 2015 */
+#define KERNEL_CUBIC_BSPLINE     3 /* Monaghan & Lattanzio 1985 */
 
 #define ROTATION_NONE         0 /* SPH-ENOG: a^s accumulates unrotated (000 eq. 24) */
 #define ROTATION_AVERAGED     1 /* SPH-ENOG-A: a^s <- Rbar (a^s + da) (003 eqs. 41-42) */
 #define ROTATION_PER_PARTICLE 2 /* reference code: a^s <- R_i a^s + da (003 eq. 34) */
 
-#define FORMULATION_ENOG   0
-#define FORMULATION_ENOG_A 1
+#define FORMULATION_ENOG   0 /* 000: Laplacian shear acceleration, eq. 24 */
+#define FORMULATION_ENOG_A 1 /* 003: ENOG with the rotation, eqs. 38-42 */
+#define FORMULATION_OG     2 /* 000 eqs. 17-18: nested stress divergence */
+#define FORMULATION_OAS    3 /* OG + artificial stress (Gray, Monaghan & Swift 2001) */
+#define FORMULATION_GNOG   4 /* 003 eqs. 43-45: stress divergence + penalty */
+#define FORMULATION_GNOG_A 5 /* 003 eqs. 46-49, Algorithm 2 */
+#define FORMULATION_TLSPH  6 /* total Lagrangian (001, 004 §3; hourglass control 002) */
+/* What a formulation computes (f: a FORMULATION_* value). */
+#define FORM_IS_ENOG(f)        ((f) == FORMULATION_ENOG || (f) == FORMULATION_ENOG_A)
+#define FORM_HAS_STRESS_DIV(f) ((f) >= FORMULATION_OG && (f) <= FORMULATION_GNOG_A)
+#define FORM_HAS_PENALTY(f)    ((f) == FORMULATION_GNOG || (f) == FORMULATION_GNOG_A)
 
 /* Layout of the scalar parameter block `prm` (one real array, same on both
  * backends, filled by sph_params_fill in host/feature_set.c). */
@@ -29,7 +41,17 @@
 #define PRM_RIEMANN_LIMIT 12 /* >0: truncated-linear limiter slope; 0: unlimited */
 #define PRM_NBODIES       13 /* CPU backend: run-time copy of SPH_NBODIES */
 #define PRM_DP            14 /* initial particle spacing */
-#define PRM_BODY_COUNT    16 /* particles per body, SPH_MAX_BODIES entries */
+#define PRM_FORMULATION   15 /* CPU backend: run-time copy of SPH_FORMULATION */
+#define PRM_PLASTIC       16 /* CPU backend: run-time copy of SPH_PLASTIC */
+#define PRM_XI_G          17 /* GNOG penalty coefficient xi_G (003 eqs. 43, 46) */
+#define PRM_YIELD         18 /* J2 initial yield stress sigma_Y (003 eq. 11) */
+#define PRM_HARDENING     19 /* J2 linear isotropic hardening modulus kappa */
+#define PRM_ART_EPS       20 /* OAS artificial-stress coefficient epsilon */
+#define PRM_ART_N         21 /* OAS exponent n of f = W(r)/W(dp) */
+#define PRM_ART_WDP       22 /* W(dp) of the kernel in use */
+#define PRM_HOURGLASS     23 /* TLSPH hourglass-control coefficient alpha (002) */
+#define PRM_LAMBDA        24 /* Lame's first parameter (TLSPH Saint Venant-Kirchhoff) */
+#define PRM_BODY_COUNT    32 /* particles per body, SPH_MAX_BODIES entries */
 #define SPH_MAX_BODIES    8
 #define PRM_COUNT         (PRM_BODY_COUNT + SPH_MAX_BODIES)
 

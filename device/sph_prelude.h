@@ -10,6 +10,8 @@
  *   SPH_DIM          2 or 3
  *   SPH_DOUBLE       1 for double precision, 0 for single
  *   SPH_KERNEL       smoothing kernel (KERNEL_* below)
+ *   SPH_FORMULATION  FORMULATION_* (sph_constants.h)
+ *   SPH_PLASTIC      1 when the material follows J2 plasticity (003 eqs. 11-14)
  *   SPH_ROTATION     ROTATION_* : how the accumulated shear acceleration turns
  *   SPH_HAS_CLAMP    1 when the scene has fixed (clamped) particles
  *   SPH_NBODIES      number of bodies (1 when the scene has one body)
@@ -40,13 +42,25 @@ typedef float real;
 #    define ITEM_PARAM
 #    define ITEM_ID ((int)get_global_id(0))
 /* Optional buffers exist only when their feature is compiled in. */
-#    define PRESENT(p)       1
-#    define RUNTIME_ROTATION SPH_ROTATION
-#    define RUNTIME_KERNEL   SPH_KERNEL
-#    define RUNTIME_NBODIES  SPH_NBODIES
-/* Which optional buffers this program has. */
+#    define PRESENT(p)          1
+#    define RUNTIME_ROTATION    SPH_ROTATION
+#    define RUNTIME_KERNEL      SPH_KERNEL
+#    define RUNTIME_NBODIES     SPH_NBODIES
+#    define RUNTIME_FORMULATION SPH_FORMULATION
+#    define RUNTIME_PLASTIC     SPH_PLASTIC
+/* Which optional buffers and code paths this program has. */
 #    define SPH_HAS_ROTATION_AVG (SPH_ROTATION == ROTATION_AVERAGED)
 #    define SPH_HAS_BODY_IDS     (SPH_NBODIES > 1)
+#    define SPH_HAS_ENOG                                                                           \
+        (SPH_FORMULATION == FORMULATION_ENOG || SPH_FORMULATION == FORMULATION_ENOG_A)
+#    define SPH_HAS_STRESS_DIV                                                                     \
+        (SPH_FORMULATION == FORMULATION_OG || SPH_FORMULATION == FORMULATION_OAS ||                \
+         SPH_FORMULATION == FORMULATION_GNOG || SPH_FORMULATION == FORMULATION_GNOG_A)
+#    define SPH_HAS_PENALTY                                                                        \
+        (SPH_FORMULATION == FORMULATION_GNOG || SPH_FORMULATION == FORMULATION_GNOG_A)
+#    define SPH_HAS_ART_STRESS (SPH_FORMULATION == FORMULATION_OAS)
+#    define SPH_HAS_TLSPH      (SPH_FORMULATION == FORMULATION_TLSPH)
+#    define SPH_HAS_PLASTICITY SPH_PLASTIC
 typedef uchar u8;
 #    define ATOMIC_MAX_INT(p, v) atomic_max((p), (v))
 #    define REAL_LOWEST          (-INFINITY)
@@ -71,8 +85,16 @@ typedef float real;
 #    define RUNTIME_ROTATION     ((int)prm[PRM_ROTATION])
 #    define RUNTIME_KERNEL       ((int)prm[PRM_KERNEL])
 #    define RUNTIME_NBODIES      ((int)prm[PRM_NBODIES])
+#    define RUNTIME_FORMULATION  ((int)prm[PRM_FORMULATION])
+#    define RUNTIME_PLASTIC      ((int)prm[PRM_PLASTIC])
 #    define SPH_HAS_ROTATION_AVG 1
 #    define SPH_HAS_BODY_IDS     1
+#    define SPH_HAS_ENOG         1
+#    define SPH_HAS_STRESS_DIV   1
+#    define SPH_HAS_PENALTY      1
+#    define SPH_HAS_ART_STRESS   1
+#    define SPH_HAS_TLSPH        1
+#    define SPH_HAS_PLASTICITY   1
 #    ifndef SPH_HAS_CLAMP
 #        define SPH_HAS_CLAMP 1
 #    endif

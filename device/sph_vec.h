@@ -157,6 +157,18 @@ FN mat mat_inverse(const mat x) {
 
 /* Symmetric tensors are stored as NSYM components: 2D (xx, xy, yy),
  * 3D (xx, xy, xz, yy, yz, zz). */
+/* Full d x d tensor, component (a, b) at (a * SPH_DIM + b) * n + i. */
+FN mat mat_load(GLOBAL const real *buf, const int n, const int i) {
+    mat r;
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = buf[(a * SPH_DIM + b) * n + i];
+    return r;
+}
+FN void mat_store(GLOBAL real *buf, const int n, const int i, const mat x) {
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = 0; b < SPH_DIM; ++b) buf[(a * SPH_DIM + b) * n + i] = x.m[a][b];
+}
+
 FN int sym_index(const int a, const int b) {
     const int lo = a < b ? a : b, hi = a < b ? b : a;
 #if SPH_DIM == 2

@@ -43,6 +43,9 @@ typedef struct {
     double kinetic, strain;
     double momentum[3];
     double angular[3]; /* 2D: angular[2] = L_z */
+    /* instability monitor (device/monitor.cl), filled by the solver */
+    double min_distance_ratio; /* smallest pair distance / dp */
+    double zigzag;             /* max velocity mismatch / max |L| */
 } sph_diagnostics;
 
 /* A host copy of the frozen neighbour lists (tests). */
@@ -66,6 +69,8 @@ typedef struct {
 } sph_profile_record;
 #define SPH_MAX_PROFILE_RECORDS 32
 
+#define SPH_MONITOR_NCOMP 3
+
 /* Length of the carried substep state (see sph_backend_ops). */
 #define SPH_CARRIED_LEN (1 + SPH_MAX_BODIES * 9)
 
@@ -76,6 +81,9 @@ typedef struct {
     /* one acoustic substep of size dt; returns max |v|^2 after it */
     sph_status (*substep)(sph_backend *be, double dt, double *max_speed2, sph_error *err);
     sph_status (*diagnostics)(sph_backend *be, sph_diagnostics *out, sph_error *err);
+    /* instability monitor measures (device/monitor.cl), SPH_MONITOR_NCOMP
+     * values: -min r/dp, max velocity mismatch, max |L| */
+    sph_status (*monitor)(sph_backend *be, double *out, sph_error *err);
     /* copy a field to the host: real fields as double [components * n],
      * int32 and u8 fields in their own type */
     sph_status (*download)(sph_backend *be, sph_field field, void *host, sph_error *err);
@@ -95,6 +103,9 @@ struct sph_backend {
     const char *kind_name; /* "cpu" or "opencl" */
     char device_name[256]; /* e.g. "AMD EPYC (2 threads)" */
     char build_options[512];
+    /* OpenCL: the program's kernels with their arguments, "name(a, b, ...)"
+     * separated by newlines: what this run compiled in (summary.json) */
+    char program_kernels[8192];
     char choice_reason[256]; /* why this backend/device was chosen */
     sph_features features;
     sph_field_info fields[FIELD_COUNT];

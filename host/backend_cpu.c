@@ -68,15 +68,20 @@ static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *
     free(c->b.pair_e);
     free(c->b.pair_dwv);
     free(c->b.pair_inv_r);
+    free(c->b.pair_w);
+    c->b.pair_w = NULL;
     c->b.cap = cap;
     c->b.nbr_j = malloc(slots * sizeof(int32_t));
     c->b.pair_e = malloc(slots * (size_t)be->features.dim * c->real_size);
     c->b.pair_dwv = malloc(slots * c->real_size);
     c->b.pair_inv_r = malloc(slots * c->real_size);
+    const bool tlsph = be->features.formulation == SPH_FORMULATION_TLSPH;
+    if (tlsph) c->b.pair_w = malloc(slots * c->real_size);
     sph_backend_record_buffer(
         be, "neighbour lists and frozen pair geometry",
-        slots * (sizeof(int32_t) + (size_t)(be->features.dim + 2) * c->real_size));
-    if (!c->b.nbr_j || !c->b.pair_e || !c->b.pair_dwv || !c->b.pair_inv_r)
+        slots * (sizeof(int32_t) + (size_t)(be->features.dim + 2 + tlsph) * c->real_size));
+    if (!c->b.nbr_j || !c->b.pair_e || !c->b.pair_dwv || !c->b.pair_inv_r ||
+        (tlsph && !c->b.pair_w))
         return sph_fail(err, SPH_ERR_RUNTIME,
                         "out of host memory for the neighbour lists (%d particles x %d slots)",
                         be->n, cap);
@@ -224,6 +229,13 @@ static sph_status cpu_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     return SPH_OK;
 }
 
+static sph_status cpu_monitor(sph_backend *be, double *out, sph_error *err) {
+    (void)err;
+    cpu_impl *c = be->impl;
+    c->k->monitor(&c->b, out);
+    return SPH_OK;
+}
+
 static sph_status cpu_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
     cpu_impl *c = be->impl;
     if (!c->b.field[f])
@@ -298,6 +310,7 @@ static void cpu_destroy(sph_backend *be) {
         free(c->b.pair_e);
         free(c->b.pair_dwv);
         free(c->b.pair_inv_r);
+        free(c->b.pair_w);
         free(c->b.keys);
         free(c->keys_sorted);
         free(c->b.cell_start);
@@ -316,6 +329,7 @@ static const sph_backend_ops cpu_ops = {
     .rebuild = cpu_rebuild,
     .substep = cpu_substep,
     .diagnostics = cpu_diagnostics,
+    .monitor = cpu_monitor,
     .download = cpu_download,
     .download_neighbours = cpu_download_neighbours,
     .upload_field = cpu_upload_field,

@@ -18,6 +18,7 @@ typedef struct {
     void *field[FIELD_COUNT]; /* NULL when the field is not present */
     int32_t *nbr_count, *nbr_j;
     void *pair_e, *pair_dwv, *pair_inv_r;
+    void *pair_w; /* TLSPH only: reference hourglass weights (else NULL) */
     uint64_t *keys;
     int32_t *cell_start, *cell_end;
     void *prm;          /* real[PRM_COUNT] */
@@ -39,6 +40,8 @@ typedef struct {
     void (*substep)(cpu_buffers *b, double dt, double *max_speed2);
     /* kinetic, strain, momentum (dim), angular (1 or 3) */
     void (*diagnostics)(cpu_buffers *b, double *out);
+    /* instability monitor (device/monitor.cl): SPH_MONITOR_NCOMP values */
+    void (*monitor)(cpu_buffers *b, double *out);
     /* physics probes for unit tests and observers */
     double (*kernel_w)(const double *prm, double r);
     double (*kernel_dw)(const double *prm, double r);
@@ -52,6 +55,12 @@ typedef struct {
      * any output may be NULL: pressure [n], von Mises [n], tau [n][6] */
     void (*stress_output)(const double *prm, int n, const double *rho, const double *tau,
                           double *pressure, double *von_mises, double *tensor6);
+    /* one substep of a material point's shear stress: Jaumann rate and, when
+     * alpha is given and prm[PRM_PLASTIC] is set, the J2 return (row-major) */
+    void (*stress_update)(const double *prm, const double *grad_v, double dt, double *tau,
+                          double *alpha);
+    /* artificial stress of one particle (OAS), row-major d x d */
+    void (*artificial_stress)(const double *tau, double p, double rho, double epsilon, double *r);
 } cpu_kernels;
 
 extern const cpu_kernels cpu_2d_f64, cpu_2d_f32, cpu_3d_f64, cpu_3d_f32;

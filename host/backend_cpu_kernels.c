@@ -9,7 +9,9 @@
 
 #include "neighbour_build.cl"
 #include "acoustic_step.cl"
+#include "tl_step.cl"
 #include "reduction.cl"
+#include "monitor.cl"
 
 /* Reduce CONTRIB(i, c) over all particles in blocks of SPH_WG: each block
  * combines its particles in order, then the blocks are combined in order, so
@@ -76,15 +78,15 @@ static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g) {
                          F_REAL(b, FIELD_VOL), (const real *)b->grid_geom, g->dims[0], g->dims[1],
                          g->dims[2], b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
                          (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r,
-                         F_REAL(b, FIELD_BMAT), &overflow);
+                         F_REAL(b, FIELD_BMAT), &overflow, (real *)b->pair_w);
     return overflow;
 }
 
-/* One substep in one parallel region with two barriers: the pressure pass,
- * then the velocity-terms pass over fixed blocks of SPH_WG particles, each
- * block also reducing its contributions (|v|^2, Rodrigues matrices) into its
- * partial row; the rows are combined in block order afterwards. */
-static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
+/* One TLSPH substep (tl_step.cl) in one parallel region: the deformation
+ * pass, the acceleration pass, then the update over fixed blocks of SPH_WG
+ * particles, each block reducing max |v|^2 into its partial row (the same
+ * grouping as substep_reduce on the device). */
+static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     const real dt = (real)dt_in;
     const int n = b->n, cap = b->cap;
     CONSTANT real *prm = (const real *)b->prm;
@@ -96,13 +98,66 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     {
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
-            acoustic_pressure(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                              (const real *)b->pair_dwv, F_REAL(b, FIELD_RHO),
-                              F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                              F_REAL(b, FIELD_ACC_DISS), F_REAL(b, FIELD_ACC_SHEAR),
-                              F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
-                              F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY),
-                              F_REAL(b, FIELD_POS0), F_U8(b, FIELD_FIXED));
+            tl_deformation(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                           (const real *)b->pair_dwv, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                           F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD), F_REAL(b, FIELD_PK1),
+                           F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_TAU));
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            tl_acceleration(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                            (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
+                            F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                            F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD),
+                            F_REAL(b, FIELD_PK1), F_REAL(b, FIELD_ACC_SHEAR),
+                            (const real *)b->pair_w);
+#pragma omp for schedule(static)
+        for (int g = 0; g < ngroups; ++g) {
+            const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;
+            real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
+            reduce_identity(acc, 1, ncomp);
+            for (int i = g * SPH_WG; i < end; ++i) {
+                tl_update(i, n, dt, prm, F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_POS),
+                          F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_POS0), F_U8(b, FIELD_FIXED));
+                substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
+                                F_U8(b, FIELD_BODY), c);
+                reduce_combine(acc, c, 1, ncomp);
+            }
+            for (int k = 0; k < ncomp; ++k) partials[g * ncomp + k] = acc[k];
+        }
+    }
+    reduce_identity(sums, 1, ncomp);
+    for (int g = 0; g < ngroups; ++g) reduce_combine(sums, partials + g * ncomp, 1, ncomp);
+    *max_speed2 = (double)sums[0];
+}
+
+/* One substep in one parallel region with two barriers: the pressure pass,
+ * then the velocity-terms pass over fixed blocks of SPH_WG particles, each
+ * block also reducing its contributions (|v|^2, Rodrigues matrices) into its
+ * partial row; the rows are combined in block order afterwards. */
+static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
+    if ((int)((const real *)b->prm)[PRM_FORMULATION] == FORMULATION_TLSPH) {
+        tl_substep_impl(b, dt_in, max_speed2);
+        return;
+    }
+    const real dt = (real)dt_in;
+    const int n = b->n, cap = b->cap;
+    CONSTANT real *prm = (const real *)b->prm;
+    real *sums = (real *)b->substep_sums;
+    real *partials = (real *)b->partials;
+    const int ncomp = substep_ncomp(prm);
+    const int ngroups = (n + SPH_WG - 1) / SPH_WG;
+    const bool stress_div = FORM_HAS_STRESS_DIV(RUNTIME_FORMULATION);
+#pragma omp parallel if (b->parallel)
+    {
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            acoustic_pressure(
+                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                (const real *)b->pair_dwv, F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO),
+                F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_ACC_DISS),
+                F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY), F_REAL(b, FIELD_POS0),
+                F_U8(b, FIELD_FIXED), F_REAL(b, FIELD_ACC_STRESS));
 #pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g) {
             const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;
@@ -113,7 +168,8 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                     F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
                     F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_ACC_DISS),
                     F_REAL(b, FIELD_TAU), F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
-                    F_REAL(b, FIELD_SPIN));
+                    F_REAL(b, FIELD_SPIN), F_REAL(b, FIELD_GRADV), F_REAL(b, FIELD_ART_STRESS),
+                    F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE));
             real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
             reduce_identity(acc, 1, ncomp);
             for (int i = g * SPH_WG; i < end; ++i) {
@@ -122,6 +178,19 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                 reduce_combine(acc, c, 1, ncomp);
             }
             for (int k = 0; k < ncomp; ++k) partials[g * ncomp + k] = acc[k];
+        }
+        /* third pass of the stress-divergence formulations: reads the tau
+         * and L of the neighbours written above */
+        if (stress_div) {
+#pragma omp for schedule(static)
+            for (int i = 0; i < n; ++i)
+                acoustic_shear_force(
+                    i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_REAL(b, FIELD_MASS),
+                    F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_TAU),
+                    F_REAL(b, FIELD_ACC_STRESS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_GRADV),
+                    F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_ART_STRESS),
+                    F_REAL(b, FIELD_PENALTY_SCALE), F_REAL(b, FIELD_DACC_SHEAR));
         }
     }
     reduce_identity(sums, 1, ncomp);
@@ -181,6 +250,49 @@ static void probe_riemann_pair(const double *v_i, const double *v_j, double p_i,
     *continuity = (double)riemann_continuity_pair(u, (real)dw);
 }
 
+/* One substep of a material point's shear stress (Jaumann + J2 return),
+ * tau and grad_v row-major d x d; alpha NULL for an elastic material. */
+static void probe_stress_update(const double *prm_in, const double *grad_v_in, double dt,
+                                double *tau_io, double *alpha_io) {
+    real prm[PRM_COUNT];
+    params_to_real(prm_in, prm);
+    mat tau, grad_v;
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int c = 0; c < SPH_DIM; ++c) {
+            tau.m[a][c] = (real)tau_io[a * SPH_DIM + c];
+            grad_v.m[a][c] = (real)grad_v_in[a * SPH_DIM + c];
+        }
+    real alpha = alpha_io ? (real)*alpha_io : R(0), ratio;
+    const mat out =
+        shear_stress_update(tau, grad_v, prm, (real)dt, alpha_io ? &alpha : NULL, 0, &ratio);
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int c = 0; c < SPH_DIM; ++c) tau_io[a * SPH_DIM + c] = (double)out.m[a][c];
+    if (alpha_io) *alpha_io = (double)alpha;
+}
+
+/* Artificial stress R of Gray et al. (2001) for one particle (row-major). */
+static void probe_artificial_stress(const double *tau_in, double p, double rho, double epsilon,
+                                    double *r_out) {
+    mat tau;
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int c = 0; c < SPH_DIM; ++c) tau.m[a][c] = (real)tau_in[a * SPH_DIM + c];
+    const mat r = artificial_stress(tau, (real)p, (real)rho, (real)epsilon);
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int c = 0; c < SPH_DIM; ++c) r_out[a * SPH_DIM + c] = (double)r.m[a][c];
+}
+
+static void monitor_impl(cpu_buffers *b, double *out) {
+    CONSTANT real *prm = (const real *)b->prm;
+    real result[MONITOR_NCOMP];
+    const int cap = b->cap;
+#pragma omp parallel if (b->parallel)
+    BLOCK_REDUCE(b, MONITOR_NCOMP, MONITOR_NCOMP, result,
+                 monitor_contrib(i, n_, cap, prm, b->nbr_count, b->nbr_j, F_REAL(b, FIELD_POS),
+                                 F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
+                                 c_));
+    for (int k = 0; k < MONITOR_NCOMP; ++k) out[k] = (double)result[k];
+}
+
 /* Derived output fields from the state, for snapshots: pressure by the EOS,
  * von Mises stress of tau - p I, and tau in VTK's symmetric-tensor order
  * (xx, yy, zz, xy, yz, xz; zero out of plane in 2D).  tau is in the field
@@ -213,9 +325,12 @@ const cpu_kernels CPU_VARIANT = {
     .build_neighbours = build_neighbours_impl,
     .substep = substep_impl,
     .diagnostics = diagnostics_impl,
+    .monitor = monitor_impl,
     .kernel_w = probe_kernel_w,
     .kernel_dw = probe_kernel_dw,
     .rodrigues = probe_rodrigues,
     .riemann_pair = probe_riemann_pair,
     .stress_output = stress_output_impl,
+    .stress_update = probe_stress_update,
+    .artificial_stress = probe_artificial_stress,
 };

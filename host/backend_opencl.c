@@ -30,6 +30,7 @@ enum {
     RES_PAIR_E,
     RES_PAIR_DWV,
     RES_PAIR_INV_R,
+    RES_PAIR_W,
     RES_KEYS,
     RES_CELL_START,
     RES_CELL_END,
@@ -51,6 +52,9 @@ typedef struct {
     sph_cl_kernel cell_keys, permute_real, permute_int, permute_u8, cell_ranges, build, sort_local,
         merge_local, sort_global, pressure, velocity_terms, rebuild_reduce, substep_reduce,
         diagnostics_reduce, finalize;
+    sph_cl_kernel shear_force; /* stress-divergence formulations only */
+    sph_cl_kernel monitor_reduce;
+    sph_cl_kernel tl_deformation, tl_acceleration, tl_update; /* TLSPH only */
 } kernel_set;
 
 typedef struct {
@@ -61,6 +65,7 @@ typedef struct {
     cl_program program;
     kernel_set k;
     cl_mem field[FIELD_COUNT], spare[FIELD_COUNT];
+    cl_mem pair_w; /* TLSPH only */
     cl_mem nbr_count, nbr_j, pair_e, pair_dwv, pair_inv_r, keys, cell_start, cell_end, prm,
         grid_geom, partials, substep_sums, overflow, result;
     cl_int n, npad, cap, gx, gy, gz, ngroups;
@@ -123,6 +128,7 @@ static void fill_resources(sph_backend *be, ocl_impl *o) {
     o->res[RES_PAIR_E] = (sph_cl_arg){"pair_e", sizeof(cl_mem), &o->pair_e};
     o->res[RES_PAIR_DWV] = (sph_cl_arg){"pair_dwv", sizeof(cl_mem), &o->pair_dwv};
     o->res[RES_PAIR_INV_R] = (sph_cl_arg){"pair_inv_r", sizeof(cl_mem), &o->pair_inv_r};
+    o->res[RES_PAIR_W] = (sph_cl_arg){"pair_w", sizeof(cl_mem), &o->pair_w};
     o->res[RES_KEYS] = (sph_cl_arg){"keys", sizeof(cl_mem), &o->keys};
     o->res[RES_CELL_START] = (sph_cl_arg){"cell_start", sizeof(cl_mem), &o->cell_start};
     o->res[RES_CELL_END] = (sph_cl_arg){"cell_end", sizeof(cl_mem), &o->cell_end};
@@ -229,6 +235,7 @@ static sph_status alloc_pairs(sph_backend *be, ocl_impl *o, int cap, sph_error *
     release(&o->pair_e);
     release(&o->pair_dwv);
     release(&o->pair_inv_r);
+    release(&o->pair_w);
     o->cap = cap;
     const size_t slots = (size_t)be->n * (size_t)cap;
     sph_status st = make_buffer(be, o, "nbr_j", slots * sizeof(cl_int), &o->nbr_j, err);
@@ -237,6 +244,8 @@ static sph_status alloc_pairs(sph_backend *be, ocl_impl *o, int cap, sph_error *
                          &o->pair_e, err);
     if (!st) st = make_buffer(be, o, "pair_dwv", slots * o->real_size, &o->pair_dwv, err);
     if (!st) st = make_buffer(be, o, "pair_inv_r", slots * o->real_size, &o->pair_inv_r, err);
+    if (!st && be->features.formulation == SPH_FORMULATION_TLSPH)
+        st = make_buffer(be, o, "pair_w", slots * o->real_size, &o->pair_w, err);
     return st;
 }
 
@@ -375,13 +384,30 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     return st;
 }
 
+/* One TLSPH substep (tl_step.cl): deformation, acceleration and update
+ * passes, then the substep reduction (max |v|^2). */
+static sph_status tl_substep(ocl_impl *o, size_t items, const sph_cl_arg *dt_arg,
+                             double *max_speed2, sph_error *err) {
+    sph_status st = launch(o, &o->k.tl_deformation, items, o->wg, dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.tl_acceleration, items, o->wg, dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.tl_update, items, o->wg, dt_arg, 1, err);
+    if (!st)
+        st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, dt_arg, 1, err);
+    if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
+    if (!st) st = read_reals(o, o->substep_sums, 0, 1, max_speed2, err);
+    return st;
+}
+
 static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sph_error *err) {
     ocl_impl *o = be->impl;
     real_scalar dt_s;
     const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
     const size_t items = (size_t)be->n;
+    if (o->k.tl_deformation.kernel) return tl_substep(o, items, &dt_arg, max_speed2, err);
     sph_status st = launch(o, &o->k.pressure, items, o->wg, &dt_arg, 1, err);
     if (!st) st = launch(o, &o->k.velocity_terms, items, o->wg, &dt_arg, 1, err);
+    if (!st && o->k.shear_force.kernel)
+        st = launch(o, &o->k.shear_force, items, o->wg, &dt_arg, 1, err);
     if (!st)
         st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, &dt_arg, 1, err);
     if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
@@ -401,6 +427,15 @@ static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     if (st) return st;
     sph_diagnostics_unpack(red, d, out);
     return SPH_OK;
+}
+
+static sph_status ocl_monitor(sph_backend *be, double *out, sph_error *err) {
+    ocl_impl *o = be->impl;
+    sph_status st =
+        launch(o, &o->k.monitor_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
+    if (!st) st = finalize(o, SPH_MONITOR_NCOMP, SPH_MONITOR_NCOMP, o->result, err);
+    if (!st) st = read_reals(o, o->result, 0, SPH_MONITOR_NCOMP, out, err);
+    return st;
 }
 
 static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
@@ -476,10 +511,10 @@ static void ocl_destroy(sph_backend *be) {
             release(&o->field[f]);
             release(&o->spare[f]);
         }
-        cl_mem *bufs[] = {&o->nbr_count,  &o->nbr_j,     &o->pair_e,     &o->pair_dwv,
-                          &o->pair_inv_r, &o->keys,      &o->cell_start, &o->cell_end,
-                          &o->prm,        &o->grid_geom, &o->partials,   &o->substep_sums,
-                          &o->overflow,   &o->result};
+        cl_mem *bufs[] = {&o->nbr_count,    &o->nbr_j,    &o->pair_e,    &o->pair_dwv,
+                          &o->pair_inv_r,   &o->pair_w,   &o->keys,      &o->cell_start,
+                          &o->cell_end,     &o->prm,      &o->grid_geom, &o->partials,
+                          &o->substep_sums, &o->overflow, &o->result};
         for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) release(bufs[k]);
         if (o->program) clReleaseProgram(o->program);
         if (o->queue) clReleaseCommandQueue(o->queue);
@@ -494,6 +529,7 @@ static const sph_backend_ops ocl_ops = {
     .rebuild = ocl_rebuild,
     .substep = ocl_substep,
     .diagnostics = ocl_diagnostics,
+    .monitor = ocl_monitor,
     .download = ocl_download,
     .download_neighbours = ocl_download_neighbours,
     .upload_field = ocl_upload_field,
@@ -501,6 +537,23 @@ static const sph_backend_ops ocl_ops = {
     .upload_carried = ocl_upload_carried,
     .destroy = ocl_destroy,
 };
+
+/* Record the program's kernels and their arguments (be->program_kernels). */
+static void describe_kernels(sph_backend *be, const ocl_impl *o) {
+    const sph_cl_kernel *all = (const sph_cl_kernel *)&o->k;
+    size_t len = 0;
+    const size_t cap = sizeof be->program_kernels;
+    be->program_kernels[0] = '\0';
+    for (size_t k = 0; k < sizeof o->k / sizeof(sph_cl_kernel) && len < cap; ++k) {
+        if (!all[k].kernel) continue;
+        len += (size_t)snprintf(be->program_kernels + len, cap - len, "%s%s(", len ? "\n" : "",
+                                all[k].name);
+        for (cl_uint a = 0; a < all[k].nargs && len < cap; ++a)
+            len += (size_t)snprintf(be->program_kernels + len, cap - len, "%s%s", a ? ", " : "",
+                                    all[k].arg_name[a]);
+        if (len < cap) len += (size_t)snprintf(be->program_kernels + len, cap - len, ")");
+    }
+}
 
 static sph_status create_kernels(ocl_impl *o, sph_error *err) {
     struct {
@@ -520,12 +573,29 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
                  {&o->k.rebuild_reduce, "rebuild_reduce"},
                  {&o->k.substep_reduce, "substep_reduce"},
                  {&o->k.diagnostics_reduce, "diagnostics_reduce"},
-                 {&o->k.finalize, "reduce_finalize"}};
+                 {&o->k.finalize, "reduce_finalize"},
+                 {&o->k.monitor_reduce, "monitor_reduce"}};
     for (size_t t = 0; t < sizeof table / sizeof table[0]; ++t) {
         sph_status st =
             sph_cl_kernel_create(o->program, table[t].name, o->res, RES_COUNT, table[t].k, err);
         if (st) return st;
     }
+    /* the program has the TLSPH passes only when built for TLSPH */
+    if (o->be->features.formulation == SPH_FORMULATION_TLSPH) {
+        sph_status st = sph_cl_kernel_create(o->program, "tl_deformation", o->res, RES_COUNT,
+                                             &o->k.tl_deformation, err);
+        if (!st)
+            st = sph_cl_kernel_create(o->program, "tl_acceleration", o->res, RES_COUNT,
+                                      &o->k.tl_acceleration, err);
+        if (!st)
+            st = sph_cl_kernel_create(o->program, "tl_update", o->res, RES_COUNT, &o->k.tl_update,
+                                      err);
+        return st;
+    }
+    /* the program has the third pass only when the formulation needs it */
+    if (FORM_HAS_STRESS_DIV((int)o->be->features.formulation))
+        return sph_cl_kernel_create(o->program, "acoustic_shear_force", o->res, RES_COUNT,
+                                    &o->k.shear_force, err);
     return SPH_OK;
 }
 
@@ -592,9 +662,11 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     sph_features_build_options(f, (int)o->wg, (int)o->sort_wg, o->row_major, be->build_options,
                                sizeof be->build_options);
     if (!quiet) fprintf(stderr, "sphsolid: OpenCL build options: %s\n", be->build_options);
-    const char *files[] = {"neighbour_build.cl", "acoustic_step.cl", "reduction.cl"};
-    st = sph_opencl_build_program(o->ctx, o->dev.device, files, 3, be->build_options, &o->program,
-                                  err);
+    const char *files[] = {"neighbour_build.cl", "acoustic_step.cl", "tl_step.cl", "reduction.cl",
+                           "monitor.cl"};
+    st = sph_opencl_build_program(o->ctx, o->dev.device, files,
+                                  (int)(sizeof files / sizeof files[0]), be->build_options,
+                                  &o->program, err);
     if (st) goto fail;
 
     for (int k = 0; k < FIELD_COUNT && !st; ++k) {
@@ -626,6 +698,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     if (st) goto fail;
     fill_resources(be, o);
     st = create_kernels(o, err);
+    if (!st) describe_kernels(be, o);
     if (st) goto fail;
     *out = be;
     return SPH_OK;

@@ -8,8 +8,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#define CHECKPOINT_FORMAT 1
-#define DIAG_VALUES       8 /* kinetic, strain, momentum[3], angular[3] */
+#define CHECKPOINT_FORMAT 2
+#define DIAG_VALUES       10 /* kinetic, strain, momentum[3], angular[3], monitor[2] */
 
 void sph_checkpoint_path(const char *run_dir, char *buf, size_t len) {
     snprintf(buf, len, "%s/checkpoint/checkpoint.h5", run_dir);
@@ -22,6 +22,8 @@ static void diag_pack(const sph_diagnostics *d, double *out) {
         out[2 + a] = d->momentum[a];
         out[5 + a] = d->angular[a];
     }
+    out[8] = d->min_distance_ratio;
+    out[9] = d->zigzag;
 }
 
 static void diag_unpack(const double *in, sph_diagnostics *d) {
@@ -31,6 +33,8 @@ static void diag_unpack(const double *in, sph_diagnostics *d) {
         d->momentum[a] = in[2 + a];
         d->angular[a] = in[5 + a];
     }
+    d->min_distance_ratio = in[8];
+    d->zigzag = in[9];
 }
 
 static hid_t field_memtype(sph_field_type t) {

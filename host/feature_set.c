@@ -1,5 +1,6 @@
 #include "feature_set.h"
 
+#include "backend_cpu.h"
 #include "sph_constants.h"
 
 #include <math.h>
@@ -17,17 +18,19 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
     out->stepping = scene->stepping;
     out->has_clamp = particles->fixed != NULL && particles->fixed_count > 0;
     out->nbodies = scene->nbodies;
+    for (int b = 0; b < scene->nbodies; ++b)
+        if (scene->materials[scene->bodies[b].material].plastic) out->plastic = true;
 }
 
 void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
                                 bool nbr_row_major, char *buf, size_t len) {
     snprintf(buf, len,
              "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
-             "-DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
+             "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
              f->dim, f->double_precision ? 1 : 0, (int)f->kernel, (int)f->formulation,
-             (int)f->rotation, f->has_clamp ? 1 : 0, f->nbodies, nbr_row_major ? 1 : 0, reduce_wg,
-             sort_wg);
+             f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0, f->nbodies,
+             nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
 }
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
@@ -60,6 +63,24 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     prm[PRM_RIEMANN_LIMIT] = scene->riemann_limiter_slope;
     prm[PRM_NBODIES] = (double)f->nbodies;
     prm[PRM_DP] = scene->dp;
+    prm[PRM_FORMULATION] = (double)f->formulation;
+    prm[PRM_PLASTIC] = f->plastic ? 1.0 : 0.0;
+    prm[PRM_XI_G] = scene->xi_g;
+    prm[PRM_YIELD] = m->yield_stress;
+    prm[PRM_HARDENING] = m->hardening_modulus;
+    prm[PRM_ART_EPS] = scene->art_epsilon;
+    prm[PRM_ART_N] = scene->art_exponent;
+    prm[PRM_ART_WDP] = 0.0; /* set by the backend from the kernel (sph_smoothing_kernel.h) */
+    prm[PRM_HOURGLASS] = scene->hourglass_alpha;
+    /* Lame's first parameter of TLSPH's Saint Venant-Kirchhoff model:
+     * lambda = K - 2G/3 = E nu / ((1 + nu)(1 - 2 nu)) in 2D too (plane
+     * strain, the material constants of 004 and of the reference code's
+     * elastic solid).  The in-plane K - G of the updated-Lagrangian 2D model
+     * makes the plate 0.6 % (nu = 0.4) to 4 % (nu = 0.22) too soft in
+     * bending against 004 Table 6 (bench-results/tlsph-kernels.json). */
+    prm[PRM_LAMBDA] = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
     for (int b = 0; b < f->nbodies; ++b) prm[PRM_BODY_COUNT + b] = (double)particles->body_count[b];
+    /* W(dp) normalises the artificial-stress weight f = W(r)/W(dp) */
+    prm[PRM_ART_WDP] = cpu_kernels_for(f->dim, true)->kernel_w(prm, scene->dp);
     return SPH_OK;
 }

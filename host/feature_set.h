@@ -24,6 +24,7 @@ typedef struct {
     sph_kernel kernel;
     sph_stepping stepping;
     bool has_clamp;
+    bool plastic; /* J2 plasticity (003 eqs. 11-14) */
     int nbodies;
 } sph_features;
 

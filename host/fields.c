@@ -1,5 +1,7 @@
 #include "fields.h"
 
+#include "sph_constants.h"
+
 #include <stdint.h>
 
 void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
@@ -7,6 +9,7 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
     const int nsym = d * (d + 1) / 2;
     const int nspin = d == 2 ? 1 : 3;
     const bool averaged = f->rotation == SPH_ROTATION_AVERAGED;
+    const int form = (int)f->formulation;
     const sph_field_info table[FIELD_COUNT] = {
         [FIELD_POS] = {"pos", FIELD_TYPE_REAL, d, true},
         [FIELD_VEL] = {"vel", FIELD_TYPE_REAL, d, true},
@@ -24,6 +27,14 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         [FIELD_BODY] = {"body", FIELD_TYPE_U8, 1, f->nbodies > 1},
         [FIELD_POS0] = {"pos0", FIELD_TYPE_REAL, d, f->has_clamp},
         [FIELD_FIXED] = {"fixed", FIELD_TYPE_U8, 1, f->has_clamp},
+        [FIELD_ACC_STRESS] = {"acc_stress", FIELD_TYPE_REAL, d, FORM_HAS_STRESS_DIV(form)},
+        [FIELD_GRADV] = {"gradv", FIELD_TYPE_REAL, d * d, FORM_HAS_PENALTY(form)},
+        [FIELD_ART_STRESS] = {"art_stress", FIELD_TYPE_REAL, nsym, form == FORMULATION_OAS},
+        [FIELD_PLASTIC_STRAIN] = {"plastic_strain", FIELD_TYPE_REAL, 1, f->plastic},
+        [FIELD_PENALTY_SCALE] = {"penalty_scale", FIELD_TYPE_REAL, 1,
+                                 f->plastic && FORM_HAS_PENALTY(form)},
+        [FIELD_PK1] = {"pk1", FIELD_TYPE_REAL, d * d, form == FORMULATION_TLSPH},
+        [FIELD_DEFGRAD] = {"defgrad", FIELD_TYPE_REAL, d * d, form == FORMULATION_TLSPH},
     };
     for (int k = 0; k < FIELD_COUNT; ++k) out[k] = table[k];
 }

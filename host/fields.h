@@ -16,22 +16,29 @@
 #include <stddef.h>
 
 typedef enum {
-    FIELD_POS,        /* position x */
-    FIELD_VEL,        /* velocity v */
-    FIELD_RHO,        /* density */
-    FIELD_DRHO,       /* density rate from the continuity equation */
-    FIELD_MASS,       /* mass (constant) */
-    FIELD_VOL,        /* volume m/rho, refreshed at each rebuild */
-    FIELD_ACC_DISS,   /* Riemann dissipation acceleration (lags one substep) */
-    FIELD_ACC_SHEAR,  /* accumulated shear acceleration a^s */
-    FIELD_DACC_SHEAR, /* pending increment da^s (averaged rotation only) */
-    FIELD_SPIN,       /* spin components (averaged rotation only) */
-    FIELD_TAU,        /* deviatoric (shear) stress, symmetric */
-    FIELD_BMAT,       /* kernel-gradient correction matrix B, symmetric */
-    FIELD_ID,         /* particle id: its index in the initial set */
-    FIELD_BODY,       /* body index (scenes with several bodies) */
-    FIELD_POS0,       /* initial position of fixed particles (clamp) */
-    FIELD_FIXED,      /* 1 for fixed particles (clamp) */
+    FIELD_POS,            /* position x */
+    FIELD_VEL,            /* velocity v */
+    FIELD_RHO,            /* density */
+    FIELD_DRHO,           /* density rate from the continuity equation */
+    FIELD_MASS,           /* mass (constant) */
+    FIELD_VOL,            /* volume m/rho, refreshed at each rebuild */
+    FIELD_ACC_DISS,       /* Riemann dissipation acceleration (lags one substep) */
+    FIELD_ACC_SHEAR,      /* accumulated shear acceleration a^s */
+    FIELD_DACC_SHEAR,     /* pending increment da^s (averaged rotation only) */
+    FIELD_SPIN,           /* spin components (averaged rotation only) */
+    FIELD_TAU,            /* deviatoric (shear) stress, symmetric */
+    FIELD_BMAT,           /* kernel-gradient correction matrix B, symmetric */
+    FIELD_ID,             /* particle id: its index in the initial set */
+    FIELD_BODY,           /* body index (scenes with several bodies) */
+    FIELD_POS0,           /* initial position of fixed particles (clamp) */
+    FIELD_FIXED,          /* 1 for fixed particles (clamp) */
+    FIELD_ACC_STRESS,     /* stress-divergence acceleration (OG, OAS, GNOG, GNOG-A) */
+    FIELD_GRADV,          /* velocity gradient L, full d x d (GNOG, GNOG-A: L_j in eq. 44) */
+    FIELD_ART_STRESS,     /* artificial stress R, symmetric (OAS) */
+    FIELD_PLASTIC_STRAIN, /* J2 hardening variable alpha: equivalent plastic strain */
+    FIELD_PENALTY_SCALE,  /* per-particle penalty coefficient s_i (plastic GNOG family) */
+    FIELD_PK1,            /* first Piola-Kirchhoff stress P, full d x d (TLSPH) */
+    FIELD_DEFGRAD,        /* deformation gradient F, full d x d (TLSPH) */
     FIELD_COUNT
 } sph_field;
 

@@ -9,7 +9,8 @@
  *   sphsolid devices
  *
  * Exit status: 0 success, 2 bad input (scene file, flags), 1 runtime failure,
- * 3 (compare) differences beyond the tolerance.
+ * 3 (compare) differences beyond the tolerance, 4 stopped by the instability
+ * monitor (results kept, summary.json status "unstable").
  */
 #include "compare.h"
 #include "opencl_runtime.h"
@@ -48,7 +49,8 @@ static void usage(FILE *f) {
         "--progress-interval S seconds between progress lines when stderr is not a terminal\n"
         "--plot    write PNG plots into DIR/plots after the run (tools/plot_run.py)\n"
         "compare   per-field maximum differences of two runs' snapshots and time series\n"
-        "exit status: 0 success, 2 bad input, 1 runtime failure, 3 compare: beyond tolerance\n");
+        "exit status: 0 success, 2 bad input, 1 runtime failure, 3 compare: beyond tolerance,\n"
+        "             4 stopped by the instability monitor (results kept)\n");
 }
 
 static int input_error(const char *fmt, const char *arg) {

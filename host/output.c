@@ -59,6 +59,7 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
         fprintf(out->csv, ",angular_momentum");
     else
         fprintf(out->csv, ",angular_momentum_x,angular_momentum_y,angular_momentum_z");
+    fprintf(out->csv, ",min_distance_ratio,zigzag_indicator");
     for (int o = 0; o < scene->nobservers; ++o)
         for (int a = 0; a < scene->dim; ++a)
             fprintf(out->csv, ",%s_%s", scene->observers[o].name, axis_name(a));
@@ -84,6 +85,7 @@ sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
         fprintf(f, ",%.12g", d->angular[2]);
     else
         fprintf(f, ",%.12g,%.12g,%.12g", d->angular[0], d->angular[1], d->angular[2]);
+    fprintf(f, ",%.6g,%.6g", d->min_distance_ratio, d->zigzag);
     for (int k = 0; k < out->nobservers * out->dim; ++k) fprintf(f, ",%.12g", observers[k]);
     fputc('\n', f);
     if (ferror(f) || fflush(f) != 0)

@@ -145,6 +145,15 @@ sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sp
                             "%s: bodies.%s: about %.3g lattice points in the bounding box of its "
                             "shape at dp = %g, more than this program can index (%d)",
                             scene->path, scene->bodies[b].name, points, scene->dp, INT32_MAX);
+        /* lattice indices are counted from the origin and must fit a long */
+        for (int a = 0; a < dim; a++) {
+            double cells = fmax(fabs(lo[a] - origin[a]), fabs(hi[a] - origin[a])) / scene->dp;
+            if (!(cells <= 1e15))
+                return sph_fail(err, SPH_ERR_INPUT,
+                                "%s: bodies.%s: the shape lies about %.3g spacings (dp = %g) "
+                                "from the lattice origin along %c, too far to place particles",
+                                scene->path, scene->bodies[b].name, cells, scene->dp, "xyz"[a]);
+        }
     }
     for (int b = 0; b < scene->nbodies; b++) {
         long count = scan_body(scene, b, origin, NULL, 0);
@@ -180,6 +189,28 @@ sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sp
 
     long start = 0;
     for (int b = 0; b < scene->nbodies; b++) start += scan_body(scene, b, origin, out, start);
+
+    /* extreme but finite inputs can overflow the initial velocity (a rigid
+     * rotation far from its centre, a cantilever mode with a large kl) or the
+     * mass rho0 dp^d */
+    for (size_t i = 0; i < n; i++) {
+        bool finite = isfinite(out->mass[i]) && out->mass[i] > 0.0;
+        for (int a = 0; a < dim; a++) finite = finite && isfinite(out->vel[(size_t)a * n + i]);
+        if (finite) continue;
+        const sph_body *body = &scene->bodies[out->body[i]];
+        double x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+        for (int a = 0; a < dim; a++) {
+            x[a] = out->pos[(size_t)a * n + i];
+            v[a] = out->vel[(size_t)a * n + i];
+        }
+        double mass = out->mass[i];
+        sph_particles_free(out);
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "%s: bodies.%s: the particle at (%g, %g, %g) gets velocity (%g, %g, %g) "
+                        "and mass %g (density * dp^%d): not finite (check initial_velocity, "
+                        "density and the spacing)",
+                        scene->path, body->name, x[0], x[1], x[2], v[0], v[1], v[2], mass, dim);
+    }
     return SPH_OK;
 }
 

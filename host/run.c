@@ -144,7 +144,20 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object *root = json_object_new_object();
     json_object_object_add(root, "sphsolid_version", json_object_new_string(SPHSOLID_VERSION));
     json_object_object_add(root, "commit", json_object_new_string(SPHSOLID_COMMIT));
-    json_object_object_add(root, "status", json_object_new_string("completed"));
+    const bool unstable =
+        isfinite(sim->stats.instability_time) && sim->scene.monitor_action == SPH_MONITOR_STOP;
+    json_object_object_add(root, "status",
+                           json_object_new_string(unstable ? "unstable" : "completed"));
+    if (isfinite(sim->stats.instability_time)) {
+        json_object *ins = json_object_new_object();
+        json_object_object_add(ins, "time", json_object_new_double(sim->stats.instability_time));
+        json_object_object_add(ins, "quantity",
+                               json_object_new_string(sim->stats.instability_quantity));
+        json_object_object_add(ins, "value", json_object_new_double(sim->stats.instability_value));
+        json_object_object_add(ins, "threshold",
+                               json_object_new_double(sim->stats.instability_threshold));
+        json_object_object_add(root, "instability", ins);
+    }
 
     json_object *scene = json_object_new_object();
     json_object_object_add(scene, "path", json_object_new_string(sc->path));
@@ -171,6 +184,37 @@ static json_object *summary_json(const sph_simulation *sim) {
         root, "precision",
         json_object_new_string(sim->features.double_precision ? "double" : "single"));
     json_object_object_add(root, "build_options", json_object_new_string(be->build_options));
+    json_object *features = json_object_new_object();
+    const sph_features *f = &sim->features;
+    json_object_object_add(features, "dimension", json_object_new_int(f->dim));
+    json_object_object_add(features, "formulation",
+                           json_object_new_string(sph_formulation_name(f->formulation)));
+    json_object_object_add(features, "rotation",
+                           json_object_new_string(sph_rotation_name(f->rotation)));
+    json_object_object_add(features, "kernel", json_object_new_string(sph_kernel_name(f->kernel)));
+    json_object_object_add(features, "material_model",
+                           json_object_new_string(f->plastic ? "j2-plastic" : "elastic"));
+    json_object_object_add(features, "clamp", json_object_new_boolean(f->has_clamp));
+    json_object_object_add(features, "bodies", json_object_new_int(f->nbodies));
+    json_object_object_add(features, "precision",
+                           json_object_new_string(f->double_precision ? "double" : "single"));
+    json_object_object_add(features, "stepping",
+                           json_object_new_string(sph_stepping_name(f->stepping)));
+    json_object_object_add(features, "snapshots",
+                           json_object_new_boolean(sim->scene.snapshot_every > 0));
+    json_object_object_add(root, "features", features);
+    if (be->program_kernels[0]) {
+        /* one entry per compiled kernel: "name(arg, ...)" */
+        json_object *kernels = json_object_new_array();
+        const char *p = be->program_kernels;
+        while (*p) {
+            const char *nl = strchr(p, '\n');
+            const size_t n = nl ? (size_t)(nl - p) : strlen(p);
+            json_object_array_add(kernels, json_object_new_string_len(p, (int)n));
+            p += n + (nl ? 1 : 0);
+        }
+        json_object_object_add(root, "program_kernels", kernels);
+    }
     json_object *mem = json_object_new_object();
     json_object_object_add(mem, "total_bytes",
                            json_object_new_int64((int64_t)sph_backend_total_bytes(be)));
@@ -366,16 +410,25 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
     sph_metrics_compute(&sim->series, sim->scene.period_observer, sim->scene.period_axis, scale,
                         &sim->metrics);
     if (outp) {
+        /* a run the instability monitor stopped keeps its results, marked
+         * "unstable" in summary.json */
+        const bool keep = st == SPH_OK || st == SPH_UNSTABLE;
         sph_error close_err;
-        const sph_status cst = sph_output_close(outp, st == SPH_OK, &close_err);
-        if (!st && cst) {
+        const sph_status cst = sph_output_close(outp, keep, &close_err);
+        if (keep && cst) {
             *err = close_err;
             st = cst;
         }
-        if (!st) {
+        if (st == SPH_OK || st == SPH_UNSTABLE) {
             json_object *summary = summary_json(sim);
-            st = sph_output_write_json(opt->out_dir, "summary.json", summary, err);
+            sph_error werr;
+            const sph_status wst =
+                sph_output_write_json(opt->out_dir, "summary.json", summary, &werr);
             json_object_put(summary);
+            if (wst) {
+                *err = werr;
+                st = wst;
+            }
         }
     }
     return st;

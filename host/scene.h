@@ -27,7 +27,16 @@
 #define SPH_SCENE_MAX_OBSERVERS   16
 #define SPH_SCENE_PATH_LEN        1024
 
-typedef enum { SPH_FORMULATION_ENOG = 0, SPH_FORMULATION_ENOG_A = 1 } sph_formulation;
+/* values equal the device's FORMULATION_* */
+typedef enum {
+    SPH_FORMULATION_ENOG = 0,
+    SPH_FORMULATION_ENOG_A = 1,
+    SPH_FORMULATION_OG = 2,
+    SPH_FORMULATION_OAS = 3,
+    SPH_FORMULATION_GNOG = 4,
+    SPH_FORMULATION_GNOG_A = 5,
+    SPH_FORMULATION_TLSPH = 6
+} sph_formulation;
 /* values equal the device's ROTATION_* */
 typedef enum {
     SPH_ROTATION_NONE = 0,
@@ -35,7 +44,13 @@ typedef enum {
     SPH_ROTATION_PER_PARTICLE = 2
 } sph_rotation;
 typedef enum { SPH_STEPPING_DUAL = 0, SPH_STEPPING_SINGLE = 1 } sph_stepping;
-typedef enum { SPH_KERNEL_WENDLAND_C2 = 0 } sph_kernel;
+/* values equal the device's KERNEL_* */
+typedef enum {
+    SPH_KERNEL_WENDLAND_C2 = 0,
+    SPH_KERNEL_LAGUERRE_GAUSS = 1,
+    SPH_KERNEL_LAGUERRE_WENDLAND = 2,
+    SPH_KERNEL_CUBIC_BSPLINE = 3
+} sph_kernel;
 
 typedef enum { SPH_SHAPE_BOX, SPH_SHAPE_UNION, SPH_SHAPE_DIFFERENCE } sph_shape_type;
 typedef struct {
@@ -71,6 +86,10 @@ typedef struct {
     /* derived: c0 = sqrt(E / (3 (1 - 2 nu) rho0)) (000 eq. 5), G = E/(2(1+nu)),
      * K = rho0 c0^2 = E / (3 (1 - 2 nu)) */
     double sound_speed, shear_modulus, bulk_modulus;
+    /* J2 plasticity with linear isotropic hardening (003 eqs. 11-14) when
+     * yield_stress is given */
+    bool plastic;
+    double yield_stress, hardening_modulus;
 } sph_material;
 
 typedef enum { SPH_CONSTRAINT_FIXED } sph_constraint_type;
@@ -93,6 +112,12 @@ typedef struct {
     double position[3];
 } sph_observer;
 
+typedef enum {
+    SPH_MONITOR_STOP = 0,   /* stop, keep the results, exit status 4 */
+    SPH_MONITOR_REPORT = 1, /* report once and go on */
+    SPH_MONITOR_OFF = 2
+} sph_monitor_action;
+
 /* Point data of the snapshots (docs/output-format.md); order = file order. */
 typedef enum {
     SPH_OUT_VELOCITY,
@@ -103,6 +128,7 @@ typedef enum {
     SPH_OUT_SHEAR_STRESS,
     SPH_OUT_BODY_ID,
     SPH_OUT_PARTICLE_ID,
+    SPH_OUT_PLASTIC_STRAIN, /* plastic materials only */
     SPH_OUT_COUNT
 } sph_output_field;
 
@@ -122,8 +148,11 @@ typedef struct {
     /* method */
     sph_formulation formulation;
     sph_rotation rotation;
-    double xi_e;                  /* default 0.7 d + 2.1 */
-    double riemann_limiter_slope; /* 0: unlimited dissipation */
+    double xi_e;                      /* default 0.7 d + 2.1 */
+    double xi_g;                      /* GNOG: 4.0 elastic, 0.2 plastic; GNOG-A: 2.0 */
+    double art_epsilon, art_exponent; /* OAS artificial stress: 0.3, 4 */
+    double hourglass_alpha;           /* TLSPH hourglass control (002) */
+    double riemann_limiter_slope;     /* 0: unlimited dissipation */
     double gravity[3];
 
     /* time */
@@ -147,6 +176,11 @@ typedef struct {
     double snapshot_interval;
     int snapshot_every;
     bool output_field[SPH_OUT_COUNT];
+
+    /* instability monitor (device/monitor.cl), checked at output times */
+    double monitor_zigzag;       /* zigzag indicator threshold */
+    double monitor_min_distance; /* pair distance / dp threshold */
+    sph_monitor_action monitor_action;
 
     /* analysis: first oscillation period of an observer's coordinate */
     int period_observer; /* -1: none */

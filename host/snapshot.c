@@ -87,10 +87,11 @@ sph_status sph_snapshots_open(sph_snapshots *s, const char *run_dir,
     s->vel = malloc(nn * 3 * sizeof(double));
     s->rho = malloc(nn * sizeof(double));
     s->tau = malloc(nn * 6 * sizeof(double));
+    s->alpha = malloc(nn * sizeof(double));
     s->id = malloc(nn * sizeof(int32_t));
     s->body = calloc(nn, 1);
     s->row_scratch = malloc(nn * 6 * sizeof(double));
-    if (!s->times || !s->pos || !s->vel || !s->rho || !s->tau || !s->id || !s->body ||
+    if (!s->times || !s->pos || !s->vel || !s->rho || !s->tau || !s->alpha || !s->id || !s->body ||
         !s->row_scratch)
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for snapshots");
     for (int k = 0; k < keep; ++k) s->times[k] = kept_times[k];
@@ -179,6 +180,12 @@ static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *
         }
         free(p);
         free(t6);
+    }
+    if (!st && sc->output_field[SPH_OUT_PLASTIC_STRAIN]) {
+        /* the J2 hardening variable: equivalent plastic strain (003 eq. 11) */
+        by_id(s, s->alpha, 1, 1, rows);
+        st = sph_h5_write(w, pd, "plastic_strain", H5T_NATIVE_DOUBLE, real_type, 1, scalar_dims,
+                          rows, err);
     }
     if (!st && (sc->output_field[SPH_OUT_BODY_ID] || sc->output_field[SPH_OUT_PARTICLE_ID])) {
         int32_t *ints = (int32_t *)rows; /* n int32 fit in the n*6 doubles */
@@ -318,6 +325,8 @@ sph_status sph_snapshots_write(sph_snapshots *s, sph_backend *be, double t, long
     if (!st && (want_stress || sc->output_field[SPH_OUT_DENSITY]))
         st = be->ops->download(be, FIELD_RHO, s->rho, err);
     if (!st && want_stress) st = be->ops->download(be, FIELD_TAU, s->tau, err);
+    if (!st && sc->output_field[SPH_OUT_PLASTIC_STRAIN])
+        st = be->ops->download(be, FIELD_PLASTIC_STRAIN, s->alpha, err);
     if (!st && sc->output_field[SPH_OUT_BODY_ID]) {
         if (be->fields[FIELD_BODY].present)
             st = be->ops->download(be, FIELD_BODY, s->body, err);
@@ -346,6 +355,7 @@ void sph_snapshots_close(sph_snapshots *s) {
     free(s->vel);
     free(s->rho);
     free(s->tau);
+    free(s->alpha);
     free(s->id);
     free(s->body);
     free(s->row_scratch);

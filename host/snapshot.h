@@ -42,7 +42,7 @@ typedef struct {
     int job_index;
     double job_time;
     long job_acoustic, job_advection;
-    double *pos, *vel, *rho, *tau; /* backend order, field layout */
+    double *pos, *vel, *rho, *tau, *alpha; /* backend order, field layout */
     int32_t *id;
     uint8_t *body;
     double *row_scratch; /* [n * 6] */

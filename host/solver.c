@@ -32,6 +32,11 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
         return sph_fail(err, SPH_ERR_RUNTIME,
                         "the energy became non-finite at t = %.6g s: the simulation is unstable",
                         t);
+    double mon[SPH_MONITOR_NCOMP];
+    st = be->ops->monitor(be, mon, err);
+    if (st) return st;
+    d.min_distance_ratio = -mon[0];
+    d.zigzag = mon[2] > 0 ? mon[1] / mon[2] : 0.0;
     if (a->observers->count > 0) {
         st = be->ops->download(be, FIELD_POS, s->pos, err);
         if (!st) st = be->ops->download(be, FIELD_ID, s->id, err);
@@ -41,6 +46,43 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
     st = sph_timeseries_append(ts, t, &d, s->obs, err);
     if (!st && a->output) st = sph_output_row(a->output, t, &d, s->obs, err);
     return st;
+}
+
+/* The instability monitor at an output time (device/monitor.cl): the first
+ * trip is recorded; with action "stop" the run ends with SPH_UNSTABLE. */
+static sph_status check_stability(const sph_solver_args *a, const sph_timeseries *ts,
+                                  sph_run_stats *stats, sph_error *err) {
+    const sph_scene *sc = a->scene;
+    if (sc->monitor_action == SPH_MONITOR_OFF || ts->count == 0 || !isnan(stats->instability_time))
+        return SPH_OK;
+    const sph_diagnostics *d = &ts->diag[ts->count - 1];
+    const double t = ts->time[ts->count - 1];
+    const char *what = NULL;
+    double value = 0, threshold = 0;
+    if (d->zigzag > sc->monitor_zigzag) {
+        what = "zigzag indicator";
+        value = d->zigzag;
+        threshold = sc->monitor_zigzag;
+    } else if (d->min_distance_ratio < sc->monitor_min_distance) {
+        what = "minimum pair distance / dp";
+        value = d->min_distance_ratio;
+        threshold = sc->monitor_min_distance;
+    }
+    if (!what) return SPH_OK;
+    stats->instability_time = t;
+    stats->instability_value = value;
+    stats->instability_threshold = threshold;
+    snprintf(stats->instability_quantity, sizeof stats->instability_quantity, "%s", what);
+    const char *cmp = value > threshold ? ">" : "<";
+    if (sc->monitor_action == SPH_MONITOR_STOP)
+        return sph_fail(err, SPH_UNSTABLE,
+                        "instability at t = %.6g s: %s %.3g %s %g (hourglass/zigzag or "
+                        "clustering; monitor.action = \"stop\", results so far are kept)",
+                        t, what, value, cmp, threshold);
+    if (!a->quiet)
+        fprintf(stderr, "sphsolid: warning: instability at t = %.6g s: %s %.3g %s %g\n", t, what,
+                value, cmp, threshold);
+    return SPH_OK;
 }
 
 /* Write a checkpoint of the state at this advection-step boundary. */
@@ -71,6 +113,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     const sph_scene *sc = a->scene;
     sph_backend *be = a->backend;
     memset(stats, 0, sizeof *stats);
+    stats->instability_time = NAN;
     const int n = be->n;
     sample_scratch s = {0};
     s.obs = calloc((size_t)(sc->nobservers * sc->dim + 1), sizeof(double));
@@ -89,6 +132,11 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
 
     const double h = a->prm[PRM_H], c0 = a->prm[PRM_C0];
     const bool dual = sc->stepping == SPH_STEPPING_DUAL;
+    /* TLSPH (tl_step.cl) works on the reference configuration: the rebuild at
+     * t = 0 gives the reference neighbours, pair geometry and B0, and there is
+     * no later rebuild, hence no advection step: every acoustic step (the
+     * acoustic CFL criterion only) is an outer step of its own. */
+    const bool total_lagrangian = sc->formulation == SPH_FORMULATION_TLSPH;
     double u_ref = 0.0;
     if (sc->has_reference_speed) {
         u_ref = sc->reference_speed;
@@ -113,8 +161,16 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         /* the stored state replaces the initial one; the rebuild then starts
          * from the same particle order the interrupted run had */
         const sph_checkpoint *ck = a->resume;
-        if (!st) st = sph_checkpoint_restore(ck, be, err);
-        if (!st) st = be->ops->rebuild(be, &info, err);
+        if (total_lagrangian) {
+            /* the reference configuration first, from the initial particles
+             * in the original run's deterministic order; the stored fields
+             * are in that same slot order (no rebuild since) */
+            if (!st) st = be->ops->rebuild(be, &info, err);
+            if (!st) st = sph_checkpoint_restore(ck, be, err);
+        } else {
+            if (!st) st = sph_checkpoint_restore(ck, be, err);
+            if (!st) st = be->ops->rebuild(be, &info, err);
+        }
         t = ck->h.time;
         max_speed2 = ck->h.max_speed2;
         output_index = ck->h.output_index;
@@ -125,6 +181,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         max_speed2 = info.max_speed2;
         if (!st) st = sample(a, &s, 0.0, ts, err);
         if (!st && a->snapshots) st = sph_snapshots_write(a->snapshots, be, 0.0, 0, 0, err);
+        if (!st) st = check_stability(a, ts, stats, err);
         output_index = 1;
     }
     const long start_steps = stats->acoustic_steps;
@@ -170,17 +227,26 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                 stop = true;
                 break;
             }
-            if (at_output || !dual || t >= t_adv_end) break;
+            if (at_output || !dual || total_lagrangian || t >= t_adv_end) break;
         }
         if (st) break;
         stats->advection_steps++;
         if (at_output) {
             st = sample(a, &s, t, ts, err);
+            if (!st) st = check_stability(a, ts, stats, err);
+            const bool unstable = st == SPH_UNSTABLE;
             const bool last = t >= sc->end_time;
-            if (!st && a->snapshots && sc->snapshot_every > 0 &&
-                (output_index % sc->snapshot_every == 0 || last))
-                st = sph_snapshots_write(a->snapshots, be, t, stats->acoustic_steps,
-                                         stats->advection_steps, err);
+            /* a run stopped by the monitor ends with a snapshot of the state */
+            if ((!st || unstable) && a->snapshots && sc->snapshot_every > 0 &&
+                (output_index % sc->snapshot_every == 0 || last || unstable)) {
+                sph_error serr;
+                const sph_status sst = sph_snapshots_write(
+                    a->snapshots, be, t, stats->acoustic_steps, stats->advection_steps, &serr);
+                if (sst) {
+                    st = sst;
+                    *err = serr;
+                }
+            }
             ++output_index;
             next_output = fmin((double)output_index * sc->output_interval, sc->end_time);
         }
@@ -192,7 +258,8 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             last_checkpoint_wall = now_seconds();
             while (next_checkpoint <= t) next_checkpoint += a->checkpoint_every;
         }
-        if (!st && !stop && t < sc->end_time) st = be->ops->rebuild(be, &info, err);
+        if (!st && !stop && t < sc->end_time && !total_lagrangian)
+            st = be->ops->rebuild(be, &info, err);
         sph_progress_update(&progress, wall, t, sc->end_time, stats->acoustic_steps,
                             stats->advection_steps, n, false);
     }

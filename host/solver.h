@@ -33,6 +33,9 @@ typedef struct {
     double particle_substeps_per_second;
     double end_time; /* simulated time reached */
     double reference_speed;
+    /* the first trip of the instability monitor (instability_time NAN: none) */
+    double instability_time, instability_value, instability_threshold;
+    char instability_quantity[32];
 } sph_run_stats;
 
 typedef struct {

@@ -3,7 +3,8 @@
  * Every fallible library function returns SPH_OK or an sph_status code and,
  * on failure, writes one clear sentence into the caller's sph_error.  Nothing
  * in the library prints or exits; the CLI turns the code into the process
- * exit status (0 success, 2 bad input, 1 runtime failure).
+ * exit status (0 success, 2 bad input, 1 runtime failure, 4 stopped by the
+ * instability monitor).
  */
 #ifndef SPH_ERROR_H
 #define SPH_ERROR_H
@@ -12,6 +13,7 @@ typedef enum {
     SPH_OK = 0,
     SPH_ERR_RUNTIME = 1, /* device, memory, I/O, numerical failure */
     SPH_ERR_INPUT = 2,   /* scene file, CLI flags */
+    SPH_UNSTABLE = 4,    /* the instability monitor stopped the run (results kept) */
 } sph_status;
 
 #define SPH_ERROR_MSG_LEN 2048

@@ -135,6 +135,23 @@ try:
         check(p.returncode == 2 and needle in p.stderr,
               "%s: exit 2 mentioning %r, got %d: %s" % (args, needle, p.returncode, p.stderr.strip()))
 
+    # TLSPH: the restart rebuilds the reference configuration from the
+    # initial particles, then restores the fields, and never rebuilds again
+    tl = ["--backend", BACKEND, "--quiet", "--set", "time.end=0.1", "--set",
+          "output.snapshot_interval=0.05", "--set", "method.formulation=tlsph", "--set",
+          "method.rotation=none", "--set", "monitor.action=off"]
+    tref = os.path.join(tmp, "tl_ref")
+    p = run(["run", PLATE, "--out", tref] + tl)
+    check(p.returncode == 0, "TLSPH reference run: %s" % p.stderr)
+    e = os.path.join(tmp, "tl_killed")
+    cke = os.path.join(e, "checkpoint", "checkpoint.h5")
+    killed = start_and_kill(["run", PLATE, "--out", e, "--checkpoint-every", "0.02"] + tl,
+                            lambda: os.path.exists(cke))
+    check(killed, "the TLSPH run was killed before it finished")
+    p = run(["run", "--restart", e, "--backend", BACKEND, "--quiet"])
+    check(p.returncode == 0, "TLSPH restart: %s" % p.stderr)
+    same_results(tref, e, "TLSPH kill -9 and restart")
+
     # compare fails on a perturbed copy, naming the field and the particle
     d = os.path.join(tmp, "perturbed")
     shutil.copytree(ref, d)

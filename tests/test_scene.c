@@ -327,7 +327,8 @@ static const bad_row BAD[] = {
     {"number for a string", "formulation = \"enog-a\"", "formulation = 1", NULL,
      "%F:4: method.formulation: expected a string, got an integer"},
     {"bad formulation", "\"enog-a\"", "\"enogx\"", NULL,
-     "%F:4: method.formulation: must be one of \"enog\", \"enog-a\", got \"enogx\""},
+     "%F:4: method.formulation: must be one of \"enog\", \"enog-a\", \"og\", \"oas\", \"gnog\", "
+     "\"gnog-a\", \"tlsph\", got \"enogx\""},
     {"enog with rotation averaged", "formulation = \"enog-a\"", "formulation = \"enog\"", NULL,
      "%F:4: method.rotation: formulation \"enog\" has no rotation correction"},
     {"enog-a with rotation none", "rotation = \"averaged\"", "rotation = \"none\"", NULL,

@@ -2,8 +2,13 @@
 """bench_core.py — the core solver's benchmarks (issue: core solver).
 
   periods  2D oscillating plate at H/dp = 30, v_f = 0.001, 0.01, 0.03, 0.05, with
-           SPH-ENOG-A and SPH-ENOG: first period against 003 Table 1 / 000 Table 1
-           (target: within 2 % of each published value).
+           SPH-OAS, SPH-ENOG, SPH-GNOG, SPH-ENOG-A and SPH-GNOG-A (--formulations): first
+           period against 003 Table 1 / 000 Table 1 (target: within 2 % of each
+           published value).
+  tlsph    total-Lagrangian plate at H/dp = 10, Wendland against Laguerre-Gauss, for the six
+           (v_f, nu) rows of 004 Table 6: first-period error against thin-plate theory
+           (target: within 1.5 percentage points of each published error) and cost (target:
+           equal within 5 %).
   timing   wall time and particle-substeps per second of the plate to t = 1 s at
            H/dp = 10, 20, 30 on the native backend and on OpenCL (pocl without a GPU),
            dual- against single-criterion stepping (000 Table 2), and the speed-up
@@ -29,9 +34,17 @@ PLATE = os.path.join(ROOT, "cases", "oscillating_plate_2d", "scene.cfg")
 
 # 003 Table 1 (ENOG-A), 000 / 003 Table 1 (ENOG), H/dp = 30
 PAPER_PERIODS = {
-    "enog-a": {0.001: 0.265, 0.01: 0.265, 0.03: 0.266, 0.05: 0.269},
+    "oas": {0.001: 0.273, 0.01: 0.273, 0.03: 0.275, 0.05: 0.278},
     "enog": {0.001: 0.262, 0.01: 0.263, 0.03: 0.268, 0.05: 0.279},
+    "gnog": {0.001: 0.275, 0.01: 0.273, 0.03: 0.272, 0.05: 0.272},
+    "enog-a": {0.001: 0.265, 0.01: 0.265, 0.03: 0.266, 0.05: 0.269},
+    "gnog-a": {0.001: 0.274, 0.01: 0.274, 0.03: 0.274, 0.05: 0.275},
 }
+ROTATING = ("enog-a", "gnog-a")
+# 004 Table 6 (TLSPH, H/dp = 10): (v_f, nu) -> published period errors, Wendland and
+# Laguerre-Gauss, in % of the thin-plate period
+PAPER_TLSPH = {(0.05, 0.22): (10.3, 6.7), (0.1, 0.22): (10.0, 7.4), (0.05, 0.3): (10.3, 6.7),
+               (0.1, 0.3): (10.3, 6.5), (0.05, 0.4): (10.4, 6.9), (0.1, 0.4): (10.6, 6.5)}
 # 000 Table 2: wall time to t = 1 s on 32 cores (Xeon Gold 6226R), v_f = 0.05
 PAPER_WALL = {10: {"dual": 25.8, "single": 43.0}, 20: {"dual": 66.3, "single": 139.5},
               30: {"dual": 130.1, "single": 333.0}}
@@ -65,30 +78,87 @@ def environment():
 
 def periods(args, tmp):
     rows = []
-    for form in ("enog-a", "enog"):
-        rotation = "averaged" if form == "enog-a" else "none"
+    for form in args.formulations:
+        rotation = "averaged" if form in ROTATING else "none"
         for vf in (0.001, 0.01, 0.03, 0.05):
             out = os.path.join(tmp, f"p-{form}-{vf}")
             s = run(["--backend", args.backend, "--set", f"resolution.ratio={args.ratio}",
                      "--set", f"time.end={args.end}", "--set", f"method.formulation={form}",
-                     "--set", f"method.rotation={rotation}",
+                     "--set", f"method.rotation={rotation}", "--set", "monitor.action=report",
+                     "--set", "output.snapshot_interval=0",
                      "--set", f"bodies.plate.initial_velocity.amplitude_c0={vf}"], out)
             t = s["metrics"]["first_period"]
+            ins = s.get("instability")
             paper = PAPER_PERIODS[form][vf]
             row = {"formulation": form, "v_f": vf, "first_period": t, "paper": paper,
                    "deviation": None if t is None else (t - paper) / paper,
                    "particles": s["particle_count"], "wall_time_s": s["wall_time_s"],
-                   "device": s["device"]}
+                   "device": s["device"], "instability": ins}
             rows.append(row)
             print(f"{form:7s} v_f={vf:<6} T={t:.4f} paper {paper:.3f} "
                   f"({100 * row['deviation']:+.2f} %), {s['wall_time_s']:.0f} s", flush=True)
-    print(f"\n| formulation | v_f | first period (s) | paper | deviation |\n|---|---|---|---|---|")
+    table = ["| formulation | v_f | first period (s) | paper (003/000 Table 1) | deviation | "
+             "monitor (zigzag indicator > 0.3) | wall time (s) |", "|---|---|---|---|---|---|---|"]
     for r in rows:
-        print(f"| {r['formulation']} | {r['v_f']} | {r['first_period']:.4f} | {r['paper']:.3f} | "
-              f"{100 * r['deviation']:+.2f} % |")
+        ins = r["instability"]
+        mon = f"tripped at t = {ins['time']:.3g} s ({ins['value']:.2f})" if ins else "quiet"
+        table.append(f"| {r['formulation']} | {r['v_f']} | {r['first_period']:.4f} | "
+                     f"{r['paper']:.3f} | {100 * r['deviation']:+.2f} % | {mon} | "
+                     f"{r['wall_time_s']:.0f} |")
     worst = max(abs(r["deviation"]) for r in rows)
-    print(f"\nworst deviation {100 * worst:.2f} % (target: within 2 %)")
-    return {"H/dp": args.ratio, "rows": rows, "worst_deviation": worst}
+    table.append(f"\nworst deviation {100 * worst:.2f} % (target: within 2 %), "
+                 f"H/dp = {args.ratio:g}, backend {args.backend}")
+    print("\n" + "\n".join(table))
+    return {"H/dp": args.ratio, "rows": rows, "worst_deviation": worst,
+            "markdown": "\n".join(table)}
+
+
+def thin_plate_period(nu, e=2.0e6, rho=1000.0, h=0.02, length=0.2, kl=1.875):
+    """004 eq. 33 (003 eq. 52): omega^2 = E H^2 k^4 / (12 rho (1 - nu^2))."""
+    import math
+    k = kl / length
+    return 2 * math.pi / math.sqrt(e * h * h * k ** 4 / (12 * rho * (1 - nu * nu)))
+
+
+def tlsph(args, tmp):
+    rows = []
+    for (vf, nu), published in PAPER_TLSPH.items():
+        for kernel, paper_err in zip(("wendland-c2", "laguerre-gauss"), published):
+            out = os.path.join(tmp, f"tl-{vf}-{nu}-{kernel}")
+            s = run(["--backend", args.backend, "--set", "resolution.ratio=10",
+                     "--set", "time.end=0.34", "--set", "method.formulation=tlsph",
+                     "--set", "method.rotation=none", "--set", f"method.kernel={kernel}",
+                     "--set", "output.snapshot_interval=0", "--set", "monitor.action=report",
+                     "--set", f"materials.plate.poisson_ratio={nu}",
+                     "--set", f"bodies.plate.initial_velocity.amplitude_c0={vf}"], out)
+            t = s["metrics"]["first_period"]
+            theory = thin_plate_period(nu)
+            err = 100 * (t - theory) / theory
+            row = {"v_f": vf, "nu": nu, "kernel": kernel, "first_period": t, "theory": theory,
+                   "error_percent": err, "paper_error_percent": paper_err,
+                   "difference_points": err - paper_err, "wall_time_s": s["wall_time_s"],
+                   "acoustic_steps": s["acoustic_steps"], "device": s["device"]}
+            rows.append(row)
+            print(f"v_f={vf} nu={nu} {kernel:15s} T={t:.5f} ({err:+.2f} %, paper {paper_err} %) "
+                  f"{s['wall_time_s']:.1f} s", flush=True)
+    table = ["| v_f | nu | theory (s) | kernel | T (s) | error | 004 Table 6 | difference | "
+             "wall time (s) |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        table.append(f"| {r['v_f']} | {r['nu']} | {r['theory']:.5f} | {r['kernel']} | "
+                     f"{r['first_period']:.5f} | {r['error_percent']:+.2f} % | "
+                     f"{r['paper_error_percent']} % | {r['difference_points']:+.2f} points | "
+                     f"{r['wall_time_s']:.1f} |")
+    worst = max(abs(r["difference_points"]) for r in rows)
+    cost = {k: sum(r["wall_time_s"] for r in rows if r["kernel"] == k)
+            for k in ("wendland-c2", "laguerre-gauss")}
+    ratio = cost["laguerre-gauss"] / cost["wendland-c2"]
+    table.append(f"\nworst difference {worst:.2f} percentage points (target 1.5); total wall time "
+                 f"Wendland {cost['wendland-c2']:.1f} s, Laguerre-Gauss "
+                 f"{cost['laguerre-gauss']:.1f} s (ratio {ratio:.3f}, target within 5 %), "
+                 f"backend {args.backend}")
+    print("\n" + "\n".join(table))
+    return {"rows": rows, "worst_difference_points": worst, "cost_ratio_lg_over_w": ratio,
+            "markdown": "\n".join(table)}
 
 
 def timing(args, tmp):
@@ -145,12 +215,14 @@ def timing(args, tmp):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("what", choices=["periods", "timing"])
+    ap.add_argument("what", choices=["periods", "tlsph", "timing"])
     ap.add_argument("--json", required=True, help="output JSON file")
     ap.add_argument("--backend", default="cpu", help="periods: backend (default cpu)")
     ap.add_argument("--ratio", type=float, default=30, help="periods: H/dp (default 30)")
     ap.add_argument("--end", type=float, default=None,
                     help="end time (periods: 0.32 s, timing: 1 s)")
+    ap.add_argument("--formulations", nargs="+", default=list(PAPER_PERIODS),
+                    choices=list(PAPER_PERIODS), help="periods: formulations (default: all)")
     ap.add_argument("--resolutions", type=int, nargs="+", default=[10, 20, 30])
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"])
     ap.add_argument("--single-on", nargs="+", default=["cpu"],
@@ -159,13 +231,19 @@ def main():
     if args.end is None:
         args.end = 0.32 if args.what == "periods" else 1.0
     with tempfile.TemporaryDirectory(prefix="sphsolid-bench-") as tmp:
-        body = periods(args, tmp) if args.what == "periods" else timing(args, tmp)
+        body = {"periods": periods, "tlsph": tlsph, "timing": timing}[args.what](args, tmp)
     result = {"benchmark": args.what, "environment": environment(), **body}
     os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     with open(args.json + ".partial", "w") as f:
         json.dump(result, f, indent=2)
     os.replace(args.json + ".partial", args.json)
     print(f"\nwrote {args.json}")
+    if "markdown" in body:
+        md = os.path.splitext(args.json)[0] + ".md"
+        with open(md + ".partial", "w") as f:
+            f.write(f"<!-- {result['environment']} -->\n" + body["markdown"] + "\n")
+        os.replace(md + ".partial", md)
+        print(f"wrote {md}")
 
 
 if __name__ == "__main__":

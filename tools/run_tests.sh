@@ -18,6 +18,24 @@ cmake --build build-sanitize -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -L cpu
 
+# fuzzing: libFuzzer over the scene parser, validator and particle generator
+# for 60 s from the seed corpus (tests/fuzz; any crash, leak, UB report,
+# hang or broken invariant fails the script and leaves crash-* in build-fuzz)
+if ! command -v clang >/dev/null; then
+  echo "fuzzing skipped: no clang (apt-get install clang libclang-rt-14-dev)"
+elif [ ! -f "$(clang -print-file-name=libclang_rt.fuzzer-x86_64.a)" ]; then
+  echo "fuzzing skipped: clang has no libFuzzer runtime (apt-get install libclang-rt-14-dev)"
+else
+  cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DSPHSOLID_WERROR=ON -DSPHSOLID_FUZZ=ON
+  cmake --build build-fuzz --target fuzz_scene -j "$jobs"
+  mkdir -p build-fuzz/corpus
+  LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
+    build-fuzz/tests/fuzz/fuzz_scene -max_total_time=60 -timeout=10 -rss_limit_mb=2048 \
+    -dict=tests/fuzz/scene.dict -artifact_prefix=build-fuzz/ \
+    build-fuzz/corpus tests/fuzz/corpus tests/fuzz/regressions
+fi
+
 # formatting: the sources match .clang-format
 git ls-files 'host/*.c' 'host/*.h' 'device/*.h' 'device/*.cl' 'tests/*.c' 'tests/*.h' |
   xargs clang-format --dry-run --Werror

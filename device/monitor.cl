@@ -1,0 +1,77 @@
+/* monitor.cl — the instability monitor's per-particle measures, reduced on
+ * the device at output times (cheap enough to leave on).
+ *
+ *  - clustering: the smallest distance to a neighbour, in units of dp;
+ *  - zigzag (hourglass) measure: the relative velocity a particle's
+ *    neighbours have beyond the linear field of its own velocity gradient,
+ *        m_i = sqrt( sum_j w_ij ((v_ij - L_i r_ij) . e_ij / r_ij)^2 / sum_j w_ij ),
+ *    w_ij = |dW_ij| V_j, the velocity mismatch of 003 eq. 44 seen from i,
+ *    as a strain rate.  A smooth (locally linear) motion gives m_i of order
+ *    h |grad grad v|; a zigzag at the particle scale gives m_i of the order
+ *    of the velocity gradient itself.  The host divides the largest m_i by
+ *    the largest |L_i| (Frobenius norm) of the body, so the indicator is
+ *    dimensionless and does not depend on the amplitude of the motion.
+ * Positions and velocities are the current ones; B_i and the neighbour
+ * lists those of the last configuration rebuild.
+ */
+#include "sph_vec.h"
+#include "sph_smoothing_kernel.h"
+
+#define MONITOR_NCOMP        3 /* all combined by max */
+#define MONITOR_NEG_MIN_DIST 0 /* -min_j r_ij / dp */
+#define MONITOR_MISMATCH     1 /* max_i m_i */
+#define MONITOR_GRADV        2 /* max_i |L_i| */
+
+FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *prm,
+                        GLOBAL const int *nbr_count, GLOBAL const int *nbr_j,
+                        GLOBAL const real *pos, GLOBAL const real *vel, GLOBAL const real *vol,
+                        GLOBAL const real *bmat, real *c) {
+    const vec x_i = vec_load(pos, n, i), v_i = vec_load(vel, n, i);
+    const mat b_i = sym_load(bmat, n, i);
+    const int count = nbr_count[i];
+    real min_r = prm[PRM_CUTOFF];
+    mat grad_sum = mat_zero();
+    for (int k = 0; k < count; ++k) {
+        const int j = nbr_j[NBR_AT(i, k)];
+        const vec d = vec_sub(x_i, vec_load(pos, n, j));
+        const real r = sqrt(vec_dot(d, d));
+        min_r = fmin(min_r, r);
+        if (r <= R(0)) continue;
+        const vec e = vec_scale(d, R(1) / r);
+        grad_sum = mat_add_outer(grad_sum, kernel_dw(prm, r) * vol[j],
+                                 vec_sub(v_i, vec_load(vel, n, j)), e);
+    }
+    /* L_i as in acoustic_velocity_terms (003 eq. 20) */
+    const mat grad_v = mat_scale(mat_mul(grad_sum, b_i), R(-1));
+    real sum_w = R(0), sum_m2 = R(0);
+    for (int k = 0; k < count; ++k) {
+        const int j = nbr_j[NBR_AT(i, k)];
+        const vec d = vec_sub(x_i, vec_load(pos, n, j));
+        const real r = sqrt(vec_dot(d, d));
+        if (r <= R(0)) continue;
+        const vec e = vec_scale(d, R(1) / r);
+        const vec mismatch = vec_sub(vec_sub(v_i, vec_load(vel, n, j)), mat_vec(grad_v, d));
+        const real rate = vec_dot(mismatch, e) / r;
+        const real w = fabs(kernel_dw(prm, r)) * vol[j];
+        sum_w += w;
+        sum_m2 += w * rate * rate;
+    }
+    c[MONITOR_NEG_MIN_DIST] = -min_r / prm[PRM_DP];
+    c[MONITOR_MISMATCH] = sum_w > R(0) ? sqrt(sum_m2 / sum_w) : R(0);
+    c[MONITOR_GRADV] = sqrt(mat_ddot(grad_v, grad_v));
+}
+
+#if SPH_OPENCL
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+monitor_reduce(const int n, const int cap, CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
+               GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pos,
+               GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
+               GLOBAL const real *restrict bmat, GLOBAL real *restrict partials) {
+    __local real scratch[SPH_WG];
+    real c[MONITOR_NCOMP];
+    const int i = get_global_id(0);
+    reduce_identity(c, MONITOR_NCOMP, MONITOR_NCOMP);
+    if (i < n) monitor_contrib(i, n, cap, prm, nbr_count, nbr_j, pos, vel, vol, bmat, c);
+    group_reduce_store(scratch, c, MONITOR_NCOMP, MONITOR_NCOMP, partials);
+}
+#endif

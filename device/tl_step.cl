@@ -1,0 +1,210 @@
+/* tl_step.cl — one acoustic substep of total-Lagrangian SPH (TLSPH).
+ *
+ * The reference configuration is the particle configuration at t = 0: the
+ * solver rebuilds the configuration once, at the start, and never again, so
+ * the frozen pair geometry of neighbour_build.cl IS the reference geometry:
+ * e_ij = X_ij / |X_ij| (from j to i), dW/dR(|X_ij|) V0_j, 1/|X_ij|, and the
+ * correction matrix B0_i (001: kernel computed once on the undeformed
+ * configuration; 002 §2.1 / 004 eq. 25: B0 on the initial configuration).
+ * FIELD_VOL keeps V0 = m / rho0 (it is refreshed only at a rebuild).
+ *
+ * Time integration: position Verlet (drift-kick-drift), the project's scheme
+ * (000 eqs. 27-29) and, for TLSPH, equivalent to the SPHinXsys half-step
+ * integration of 004 (seed digest §3.1: x and F advanced by half steps with
+ * velocities of the two ends of the step):
+ *   x^{n+1/2} = x^n + dt/2 v^n,
+ *   F, P, a at x^{n+1/2},
+ *   v^{n+1} = v^n + dt a,   x^{n+1} = x^{n+1/2} + dt/2 v^{n+1}.
+ * F is computed from the half-step positions rather than integrated from
+ * dF/dt (004 eq. 26): since (26) is linear in v, integrating it with the same
+ * half steps gives the same F up to round-off, and the direct form keeps F and
+ * x consistent for the hourglass term.  001 uses a leap-frog of the same order.
+ *
+ * Three passes, race-free without atomics (each pass only reads what the
+ * others write):
+ *  tl_deformation (per particle, neighbours' x^{n+1/2}):
+ *    F_i = sum_j V0_j (x_j - x_i) (x) (B0_i grad0 W_ij)     (002 §2.1 [R]),
+ *    E = (F^T F - I)/2, S = lambda tr(E) I + 2 mu E, P = F S (004 eq. 24),
+ *    rho = rho0 / det F (004 eq. 23) and the deviatoric Cauchy stress
+ *    dev(J^-1 P F^T) into tau, for outputs and the energy diagnostic;
+ *  tl_acceleration (per particle, neighbours' P, B, F, x^{n+1/2}):
+ *    m_i a_i = sum_j V0_i V0_j (P_i B0_i + P_j B0_j) grad0 W_ij   (004 eq. 25,
+ *              002's corrected anti-symmetric force)
+ *            + f_i^HG (002 hourglass control, below);
+ *  tl_update (per particle): gravity, the velocity and position update and
+ *    the clamp, as acoustic_pressure does.
+ *
+ * Kernel-gradient convention (as acoustic_step.cl): grad_i W_ij V_j =
+ * pair_dwv * e_ij with e_ij pointing from j to i; so for a uniform stretch
+ * x_j - x_i = F (X_j - X_i) = -F e_ij |X_ij| and F_i = F A_i B_i = F, where
+ * A_i = -sum_j |X_ij| dW V_j e (x) e is the moment B inverts.
+ *
+ * Hourglass control (002 §2.1, reconstructed in the seed digest and checked
+ * against TrixiParticles.jl's PenaltyForceGanzenmueller; here X_ij = X_i - X_j,
+ * x_ij = x_i - x_j, hat = unit vector):
+ *   f_i^HG = alpha/2 sum_j V0_i V0_j W(|X_ij|) / |X_ij|^2 E
+ *            [(F_i + F_j) X_ij - 2 x_ij] . hat(x_ij) hat(x_ij),
+ * the sum of the two particles' error vectors eps = F X - x projected on the
+ * current bond: a spring along the bond that pulls the pair back to the
+ * locally linear map.  Each pair term is anti-symmetric and along x_ij, so it
+ * conserves linear and angular momentum; E is the material's Young's modulus
+ * E = 9 K G / (3 K + G).
+ */
+#include "sph_vec.h"
+#include "sph_smoothing_kernel.h"
+#include "sph_elasticity.h"
+
+#if SPH_HAS_TLSPH
+
+#    if SPH_HAS_CLAMP
+#        define TL_CLAMP_PARAMS , GLOBAL const real *restrict pos0, GLOBAL const u8 *restrict fixed
+#    else
+#        define TL_CLAMP_PARAMS
+#    endif
+
+FN vec tl_pair_direction(GLOBAL const real *restrict pair_e, const int stride, const int slot) {
+    vec e;
+    for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
+    return e;
+}
+
+/* x^{n+1/2} = x^n + dt/2 v^n, evaluated where needed so that no pass writes
+ * what its neighbours read. */
+FN vec tl_half_position(GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
+                        const int n, const int i, const real half_dt) {
+    return vec_axpy(vec_load(pos, n, i), half_dt, vec_load(vel, n, i));
+}
+
+/* Saint Venant-Kirchhoff (004 eq. 24): P = F S, S = lambda tr(E) I + 2 mu E,
+ * E = (F^T F - I)/2, lambda = K - 2G/3 also in 2D (plane strain, as 004;
+ * host/feature_set.c). */
+FN mat tl_svk_pk1(const mat f, const real lambda, const real mu) {
+    mat e = mat_scale(mat_mul(mat_transpose(f), f), R(0.5));
+    for (int a = 0; a < SPH_DIM; ++a) e.m[a][a] -= R(0.5);
+    mat s = mat_scale(e, R(2) * mu);
+    const real tr = mat_trace(e);
+    for (int a = 0; a < SPH_DIM; ++a) s.m[a][a] += lambda * tr;
+    return mat_mul(f, s);
+}
+
+/* Young's modulus from the bulk and shear moduli of the parameter block. */
+FN real tl_youngs_modulus(CONSTANT real *prm) {
+    const real k = prm[PRM_K], g = prm[PRM_G];
+    return R(9) * k * g / (R(3) * k + g);
+}
+
+KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+                           GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+                           GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+                           GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
+                           GLOBAL const real *restrict bmat, GLOBAL real *restrict defgrad,
+                           GLOBAL real *restrict pk1, GLOBAL real *restrict rho,
+                           GLOBAL real *restrict tau) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int stride = n * cap;
+    const real half_dt = R(0.5) * dt;
+    const vec x_i = tl_half_position(pos, vel, n, i, half_dt);
+
+    /* sum_j dW V0_j (x_j - x_i) (x) e_ij; F = that times B0_i (B symmetric) */
+    mat g = mat_zero();
+    const int count = nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        const vec x_ji = vec_sub(tl_half_position(pos, vel, n, j, half_dt), x_i);
+        g = mat_add_outer(g, pair_dwv[slot], x_ji, tl_pair_direction(pair_e, stride, slot));
+    }
+    const mat f = mat_mul(g, sym_load(bmat, n, i));
+    const mat p = tl_svk_pk1(f, prm[PRM_LAMBDA], prm[PRM_G]);
+    mat_store(defgrad, n, i, f);
+    mat_store(pk1, n, i, p);
+
+    /* Outputs: rho = rho0 / J (004 eq. 23) and tau = dev(sigma), sigma =
+     * J^-1 P F^T.  The snapshots' pressure is then c0^2 (rho - rho0) =
+     * K (1/J - 1), which equals -tr(sigma)/d to first order in the strain
+     * (exactly so only for linear elasticity), and the strain-energy
+     * diagnostic V (tau:tau/4G + p^2/2K) is the SVK energy to second order. */
+    const real det = mat_det(f);
+    rho[i] = prm[PRM_RHO0] / det;
+    mat sigma = mat_scale(mat_mul(p, mat_transpose(f)), R(1) / det);
+    const real mean = mat_trace(sigma) / R(SPH_DIM);
+    for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= mean;
+    sym_store(tau, n, i, sigma);
+}
+
+KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt,
+                            CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
+                            GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
+                            GLOBAL const real *restrict pair_dwv,
+                            GLOBAL const real *restrict pair_inv_r, GLOBAL const real *restrict pos,
+                            GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
+                            GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat,
+                            GLOBAL const real *restrict defgrad, GLOBAL const real *restrict pk1,
+                            GLOBAL real *restrict acc_shear, GLOBAL const real *restrict pair_w) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int stride = n * cap;
+    const real half_dt = R(0.5) * dt;
+    const vec x_i = tl_half_position(pos, vel, n, i, half_dt);
+    const mat f_i = mat_load(defgrad, n, i);
+    const real alpha = prm[PRM_HOURGLASS];
+    const real hourglass_scale = R(0.5) * alpha * tl_youngs_modulus(prm);
+
+    /* sum_j (P_i B_i + P_j B_j) grad W V0_j = P_i B_i sum_j g_ij + sum_j P_j B_j g_ij */
+    vec sum_g = vec_zero(), sum_j = vec_zero(), sum_hg = vec_zero();
+    const int count = nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        const vec e = tl_pair_direction(pair_e, stride, slot);
+        const vec g = vec_scale(e, pair_dwv[slot]);
+        sum_g = vec_add(sum_g, g);
+        sum_j = vec_add(sum_j, mat_vec(mat_load(pk1, n, j), mat_vec(sym_load(bmat, n, j), g)));
+        if (alpha > R(0)) {
+            /* 002 hourglass control, pair term of the header */
+            const real r0 = R(1) / pair_inv_r[slot];
+            const vec big_x = vec_scale(e, r0);
+            const vec x_ij = vec_sub(x_i, tl_half_position(pos, vel, n, j, half_dt));
+            const real r2 = vec_dot(x_ij, x_ij);
+            if (r2 > R(0)) {
+                const vec hat = vec_scale(x_ij, R(1) / sqrt(r2));
+                const vec predicted = mat_vec(mat_add(f_i, mat_load(defgrad, n, j)), big_x);
+                const real delta = vec_dot(vec_axpy(predicted, R(-2), x_ij), hat);
+                const real w = pair_w[slot]; /* W(X_ij) V0_j / X_ij^2 */
+                sum_hg = vec_axpy(sum_hg, w * delta, hat);
+            }
+        }
+    }
+    const mat pb_i = mat_mul(mat_load(pk1, n, i), sym_load(bmat, n, i));
+    const vec force = vec_add(mat_vec(pb_i, sum_g), sum_j); /* per V0_i */
+    const real v_over_m = vol[i] / mass[i];
+    vec acc = vec_scale(force, v_over_m);
+    acc = vec_axpy(acc, hourglass_scale * v_over_m, sum_hg);
+    /* the acceleration goes to the acc_shear buffer, which TLSPH does not
+     * otherwise use, for tl_update */
+    vec_store(acc_shear, n, i, acc);
+}
+
+KERNEL void tl_update(ITEM_PARAM const int n, const real dt, CONSTANT real *prm,
+                      GLOBAL const real *restrict acc_shear, GLOBAL real *restrict pos,
+                      GLOBAL real *restrict vel TL_CLAMP_PARAMS) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const real half_dt = R(0.5) * dt;
+    vec acc = vec_load(acc_shear, n, i);
+    for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
+    const vec v_old = vec_load(vel, n, i);
+    vec v_new = vec_axpy(v_old, dt, acc);
+    vec x_new = vec_axpy(vec_load(pos, n, i), half_dt, vec_add(v_old, v_new));
+#    if SPH_HAS_CLAMP
+    if (PRESENT(fixed) && fixed[i]) {
+        v_new = vec_zero();
+        x_new = vec_load(pos0, n, i);
+    }
+#    endif
+    vec_store(vel, n, i, v_new);
+    vec_store(pos, n, i, x_new);
+}
+
+#endif

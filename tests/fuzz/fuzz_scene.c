@@ -1,0 +1,216 @@
+/* fuzz_scene.c — libFuzzer harness over the scene parser, the validator and
+ * the particle generator (the input convention is in fuzz_scene.h).
+ *
+ * Besides "no crash, no leak, no undefined behaviour, no hang", every input
+ * must end in one of two ways, checked here so that the fuzzer reports a
+ * violation as a crash:
+ *   - rejected with SPH_ERR_INPUT and a message that names the input (its
+ *     origin) or the override (`--set ...`);
+ *   - accepted, with the validator's promises kept: finite positive spacing,
+ *     finite box corners with lower < upper, finite positive material
+ *     constants, indices in range, and resolved text that loads again (a
+ *     restart reloads it from the checkpoint).
+ * An accepted scene within FUZZ_SCENE_PARTICLE_BUDGET lattice points also
+ * goes through sph_particles_generate, which must either fail the same way
+ * or give every body particles inside its shape, with finite values.
+ *
+ * Build: cmake -DCMAKE_C_COMPILER=clang -DSPHSOLID_FUZZ=ON (README, Tests). */
+#include "fuzz_scene.h"
+
+#include "particles.h"
+#include "scene.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+__attribute__((format(printf, 2, 3))) static void violate(fuzz_scene_result *res, const char *fmt,
+                                                          ...) {
+    if (res->violation[0]) return; /* keep the first */
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(res->violation, sizeof res->violation, fmt, ap);
+    va_end(ap);
+}
+
+static bool finite_positive(double x) {
+    return isfinite(x) && x > 0.0;
+}
+
+/* A failure must be an input error whose message names where it came from. */
+static void check_failure(fuzz_scene_result *res, const char *stage, sph_status st,
+                          const sph_error *err, const char *origin) {
+    if (st != SPH_ERR_INPUT)
+        violate(res, "%s: status %d, expected SPH_ERR_INPUT: %s", stage, (int)st, err->msg);
+    else if (!strstr(err->msg, origin) && strncmp(err->msg, "--set ", 6) != 0)
+        violate(res, "%s: the message names neither '%s' nor an override: %s", stage, origin,
+                err->msg);
+}
+
+static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
+    if (sc->dim != 2 && sc->dim != 3) violate(res, "dim %d", sc->dim);
+    if (!finite_positive(sc->dp)) violate(res, "dp %g", sc->dp);
+    if (!finite_positive(sc->end_time) || !finite_positive(sc->output_interval))
+        violate(res, "end %g, output_interval %g", sc->end_time, sc->output_interval);
+    if (!isfinite(sc->snapshot_interval) || sc->snapshot_every < 0)
+        violate(res, "snapshot_interval %g, every %d", sc->snapshot_interval, sc->snapshot_every);
+    if (!sc->resolved_text) violate(res, "no resolved text");
+    if (sc->nmaterials < 1 || sc->nmaterials > SPH_SCENE_MAX_MATERIALS || sc->nshapes < 1 ||
+        sc->nshapes > SPH_SCENE_MAX_SHAPES || sc->nbodies < 1 ||
+        sc->nbodies > SPH_SCENE_MAX_BODIES || sc->nobservers < 0 ||
+        sc->nobservers > SPH_SCENE_MAX_OBSERVERS) {
+        violate(res, "table sizes %d materials, %d shapes, %d bodies, %d observers", sc->nmaterials,
+                sc->nshapes, sc->nbodies, sc->nobservers);
+        return;
+    }
+    for (int m = 0; m < sc->nmaterials; m++) {
+        const sph_material *mat = &sc->materials[m];
+        if (!finite_positive(mat->density) || !finite_positive(mat->sound_speed) ||
+            !finite_positive(mat->bulk_modulus) || !finite_positive(mat->shear_modulus))
+            violate(res, "material '%s': rho %g, c0 %g, K %g, G %g", mat->name, mat->density,
+                    mat->sound_speed, mat->bulk_modulus, mat->shear_modulus);
+    }
+    for (int s = 0; s < sc->nshapes; s++) {
+        const sph_shape *sh = &sc->shapes[s];
+        if (sh->type == SPH_SHAPE_BOX) {
+            for (int a = 0; a < sc->dim; a++)
+                if (!isfinite(sh->lower[a]) || !isfinite(sh->upper[a]) ||
+                    !(sh->lower[a] < sh->upper[a]))
+                    violate(res, "shape %d: axis %d: [%g, %g]", s, a, sh->lower[a], sh->upper[a]);
+        } else if (sh->nparts < 1 || sh->nparts > SPH_SCENE_MAX_SHAPE_PARTS) {
+            violate(res, "shape %d: %d parts", s, sh->nparts);
+        } else {
+            for (int i = 0; i < sh->nparts; i++)
+                if (sh->parts[i] < 0 || sh->parts[i] >= sc->nshapes)
+                    violate(res, "shape %d: part %d", s, sh->parts[i]);
+        }
+    }
+    for (int b = 0; b < sc->nbodies; b++) {
+        const sph_body *body = &sc->bodies[b];
+        if (body->material < 0 || body->material >= sc->nmaterials || body->shape < 0 ||
+            body->shape >= sc->nshapes)
+            violate(res, "body %d: material %d, shape %d", b, body->material, body->shape);
+        for (int c = 0; c < body->nconstraints; c++)
+            if (body->constraints[c].region < 0 || body->constraints[c].region >= sc->nshapes)
+                violate(res, "body %d: constraint region %d", b, body->constraints[c].region);
+    }
+}
+
+/* Lattice points in the bodies' bounding boxes: what sph_particles_generate
+ * scans.  NaN compares false, so "not within budget". */
+static bool within_budget(const sph_scene *sc) {
+    double total = 0.0;
+    for (int b = 0; b < sc->nbodies; b++) {
+        double lo[3], hi[3], points = 1.0;
+        sph_shape_bounds(sc, sc->bodies[b].shape, lo, hi);
+        for (int a = 0; a < sc->dim; a++) points *= (hi[a] - lo[a]) / sc->dp + 1.0;
+        total += points;
+    }
+    return total <= FUZZ_SCENE_PARTICLE_BUDGET;
+}
+
+static void check_particles(fuzz_scene_result *res, const sph_scene *sc, const sph_particles *p) {
+    int per_body[SPH_SCENE_MAX_BODIES] = {0};
+    for (int i = 0; i < p->n; i++) {
+        double x[3] = {0, 0, 0};
+        for (int a = 0; a < p->dim; a++) {
+            x[a] = p->pos[(size_t)a * (size_t)p->n + (size_t)i];
+            if (!isfinite(x[a]) || !isfinite(p->vel[(size_t)a * (size_t)p->n + (size_t)i])) {
+                violate(res, "particle %d: position or velocity not finite", i);
+                return;
+            }
+        }
+        if (p->body[i] >= sc->nbodies) {
+            violate(res, "particle %d: body %d", i, p->body[i]);
+            return;
+        }
+        per_body[p->body[i]]++;
+        if (!finite_positive(p->mass[i]) || p->id[i] != i ||
+            !sph_shape_contains(sc, sc->bodies[p->body[i]].shape, x)) {
+            violate(res, "particle %d: mass %g, id %d, or outside its body's shape", i, p->mass[i],
+                    (int)p->id[i]);
+            return;
+        }
+    }
+    for (int b = 0; b < sc->nbodies; b++)
+        if (per_body[b] < 1 || per_body[b] != p->body_count[b])
+            violate(res, "body %d: %d particles, body_count %d", b, per_body[b], p->body_count[b]);
+}
+
+void fuzz_scene_run(const uint8_t *data, size_t size, const char *origin, fuzz_scene_result *res) {
+    memset(res, 0, sizeof *res);
+    /* the text, NUL-terminated (libconfig reads up to the first NUL) */
+    char *text = malloc(size + 1);
+    if (!text) abort();
+    memcpy(text, data, size);
+    text[size] = '\0';
+    if (strstr(text, "@include")) {
+        res->skipped = true;
+        free(text);
+        return;
+    }
+
+    /* "#set key=value" lines: overrides, in order */
+    char *overrides[FUZZ_SCENE_MAX_OVERRIDES];
+    int noverrides = 0;
+    for (const char *line = text; line && noverrides < FUZZ_SCENE_MAX_OVERRIDES;) {
+        const char *end = strchr(line, '\n');
+        size_t len = end ? (size_t)(end - line) : strlen(line);
+        if (len >= 5 && strncmp(line, "#set ", 5) == 0) {
+            char *ov = malloc(len - 4);
+            if (!ov) abort();
+            memcpy(ov, line + 5, len - 5);
+            ov[len - 5] = '\0';
+            overrides[noverrides++] = ov;
+        }
+        line = end ? end + 1 : NULL;
+    }
+
+    sph_scene scene;
+    res->load = sph_scene_load_text(&scene, origin, text, (const char *const *)overrides,
+                                    noverrides, &res->err);
+    if (res->load != SPH_OK) {
+        check_failure(res, "load", res->load, &res->err, origin);
+    } else {
+        check_scene(res, &scene);
+        /* the resolved text is what a checkpoint stores: it must load again */
+        sph_scene again;
+        sph_error err2 = {0};
+        sph_status st = sph_scene_load_text(&again, origin, scene.resolved_text, NULL, 0, &err2);
+        if (st != SPH_OK)
+            violate(res, "the resolved text does not load again: %s", err2.msg);
+        else if (again.dim != scene.dim || again.nbodies != scene.nbodies ||
+                 again.nshapes != scene.nshapes || again.nmaterials != scene.nmaterials ||
+                 again.formulation != scene.formulation)
+            violate(res, "the resolved text loads as a different scene");
+        sph_scene_free(&again);
+
+        if (!res->violation[0] && within_budget(&scene)) {
+            sph_particles p;
+            res->generated = true;
+            res->particles = sph_particles_generate(&scene, &p, &res->err);
+            if (res->particles != SPH_OK) {
+                check_failure(res, "particles", res->particles, &res->err, origin);
+            } else {
+                res->nparticles = p.n;
+                check_particles(res, &scene, &p);
+                sph_particles_free(&p);
+            }
+        }
+        sph_scene_free(&scene);
+    }
+    for (int i = 0; i < noverrides; i++) free(overrides[i]);
+    free(text);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    fuzz_scene_result res;
+    fuzz_scene_run(data, size, "fuzz-input.cfg", &res);
+    if (res.violation[0]) {
+        fprintf(stderr, "fuzz_scene: invariant violated: %s\n", res.violation);
+        abort();
+    }
+    return res.skipped ? -1 : 0;
+}
