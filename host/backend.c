@@ -109,3 +109,9 @@ int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp) {
     int cap = (int)ceil(1.5 * lattice);
     return (cap + 3) / 4 * 4;
 }
+
+sph_status sph_backend_require_field(const sph_backend *be, sph_field f, sph_error *err) {
+    if (be->fields[f].present) return SPH_OK;
+    return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
+                    be->fields[f].name);
+}

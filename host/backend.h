@@ -145,6 +145,8 @@ void sph_diagnostics_unpack(const double *reduced, int dim, sph_diagnostics *out
 /* Record (or update) the bytes of a named buffer for the memory report. */
 void sph_backend_record_buffer(sph_backend *be, const char *name, size_t bytes);
 size_t sph_backend_total_bytes(const sph_backend *be);
+/* SPH_OK if the run allocated field f, else a runtime error naming it. */
+sph_status sph_backend_require_field(const sph_backend *be, sph_field f, sph_error *err);
 void sph_neighbour_lists_free(sph_neighbour_lists *l);
 
 /* Initial neighbour capacity: the lattice count within the cut-off (given in

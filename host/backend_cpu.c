@@ -238,9 +238,7 @@ static sph_status cpu_monitor(sph_backend *be, double *out, sph_error *err) {
 
 static sph_status cpu_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
     cpu_impl *c = be->impl;
-    if (!c->b.field[f])
-        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
-                        be->fields[f].name);
+    if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
     const size_t count = (size_t)be->n * (size_t)info->components;
     if (info->type == FIELD_TYPE_REAL) {
@@ -254,9 +252,7 @@ static sph_status cpu_download(sph_backend *be, sph_field f, void *host, sph_err
 
 static sph_status cpu_upload_field(sph_backend *be, sph_field f, const void *host, sph_error *err) {
     cpu_impl *c = be->impl;
-    if (!c->b.field[f])
-        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
-                        be->fields[f].name);
+    if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
     const size_t count = (size_t)be->n * (size_t)info->components;
     if (info->type == FIELD_TYPE_REAL) {

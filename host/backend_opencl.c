@@ -440,9 +440,7 @@ static sph_status ocl_monitor(sph_backend *be, double *out, sph_error *err) {
 
 static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
     ocl_impl *o = be->impl;
-    if (!o->field[f])
-        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
-                        be->fields[f].name);
+    if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
     if (info->type == FIELD_TYPE_REAL)
         return read_reals(o, o->field[f], 0, (size_t)be->n * (size_t)info->components, host, err);
@@ -453,9 +451,7 @@ static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_err
 
 static sph_status ocl_upload_field(sph_backend *be, sph_field f, const void *host, sph_error *err) {
     ocl_impl *o = be->impl;
-    if (!o->field[f])
-        return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",
-                        be->fields[f].name);
+    if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
     if (info->type == FIELD_TYPE_REAL)
         return write_reals(o, o->field[f], host, (size_t)be->n * (size_t)info->components, err);
