@@ -10,23 +10,36 @@
  *    h |grad grad v|; a zigzag at the particle scale gives m_i of the order
  *    of the velocity gradient itself.  The host divides the largest m_i by
  *    the largest |L_i| (Frobenius norm) of the body, so the indicator is
- *    dimensionless and does not depend on the amplitude of the motion.
+ *    dimensionless and does not depend on the amplitude of the motion;
+ *  - non-finite state: 1 where a position or velocity component is NaN or
+ *    infinite (a NaN elsewhere reaches the velocity within a substep);
+ *  - the bounding box of the particles (max x, max -x), for the check that
+ *    no particle has left the monitored domain.
+ * Which particle tripped a check is found on the host afterwards
+ * (host/instability.c, through monitor_contrib on downloaded fields).
  * Positions and velocities are the current ones; B_i and the neighbour
  * lists those of the last configuration rebuild.
  */
 #include "sph_vec.h"
 #include "sph_smoothing_kernel.h"
 
-#define MONITOR_NCOMP        3 /* all combined by max */
-#define MONITOR_NEG_MIN_DIST 0 /* -min_j r_ij / dp */
-#define MONITOR_MISMATCH     1 /* max_i m_i */
-#define MONITOR_GRADV        2 /* max_i |L_i| */
+/* Components, all combined by max; the layout is SPH_MONITOR_* in
+ * sph_constants.h, shared with the host. */
+#define MONITOR_NCOMP SPH_MONITOR_NCOMP(SPH_DIM)
 
 FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *prm,
                         GLOBAL const int *nbr_count, GLOBAL const int *nbr_j,
                         GLOBAL const real *pos, GLOBAL const real *vel, GLOBAL const real *vol,
                         GLOBAL const real *bmat, real *c) {
     const vec x_i = vec_load(pos, n, i), v_i = vec_load(vel, n, i);
+    real state_sum = R(0);
+    for (int a = 0; a < SPH_DIM; ++a) {
+        c[SPH_MONITOR_MAX_X + a] = x_i.c[a];
+        c[SPH_MONITOR_MAX_X + SPH_DIM + a] = -x_i.c[a];
+        state_sum += fabs(x_i.c[a]) + fabs(v_i.c[a]);
+    }
+    /* an infinite or NaN component makes the sum non-finite */
+    c[SPH_MONITOR_NONFINITE] = isfinite(state_sum) ? R(0) : R(1);
     const mat b_i = sym_load(bmat, n, i);
     const int count = nbr_count[i];
     real min_r = prm[PRM_CUTOFF];
@@ -56,9 +69,9 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *
         sum_w += w;
         sum_m2 += w * rate * rate;
     }
-    c[MONITOR_NEG_MIN_DIST] = -min_r / prm[PRM_DP];
-    c[MONITOR_MISMATCH] = sum_w > R(0) ? sqrt(sum_m2 / sum_w) : R(0);
-    c[MONITOR_GRADV] = sqrt(mat_ddot(grad_v, grad_v));
+    c[SPH_MONITOR_NEG_MIN_DIST] = -min_r / prm[PRM_DP];
+    c[SPH_MONITOR_MISMATCH] = sum_w > R(0) ? sqrt(sum_m2 / sum_w) : R(0);
+    c[SPH_MONITOR_GRADV] = sqrt(mat_ddot(grad_v, grad_v));
 }
 
 #if SPH_OPENCL

@@ -62,7 +62,10 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *
                         GLOBAL const real *vel, GLOBAL const real *spin, GLOBAL const u8 *body,
                         real *c) {
     const vec v = vec_load(vel, n, i);
-    c[0] = vec_dot(v, v);
+    const real v2 = vec_dot(v, v);
+    /* the max reduction (fmax) would drop a NaN: make it the largest value,
+     * so that the host sees a non-finite speed and stops (host/solver.c) */
+    c[0] = isfinite(v2) ? v2 : INFINITY;
     if (RUNTIME_ROTATION != ROTATION_AVERAGED) return;
     const int ncomp = substep_ncomp(prm);
     for (int k = 1; k < ncomp; ++k) c[k] = R(0);

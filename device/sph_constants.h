@@ -55,4 +55,14 @@
 #define SPH_MAX_BODIES    8
 #define PRM_COUNT         (PRM_BODY_COUNT + SPH_MAX_BODIES)
 
+/* Layout of the instability monitor's reduction (device/monitor.cl), all
+ * components combined by max. */
+#define SPH_MONITOR_NEG_MIN_DIST 0 /* -min_j r_ij / dp */
+#define SPH_MONITOR_MISMATCH     1 /* max_i m_i, the velocity mismatch */
+#define SPH_MONITOR_GRADV        2 /* max_i |L_i| */
+#define SPH_MONITOR_NONFINITE    3 /* 1: some position or velocity is NaN/Inf */
+#define SPH_MONITOR_MAX_X        4 /* max x (dim), then max -x (dim) */
+#define SPH_MONITOR_NCOMP(dim)   (SPH_MONITOR_MAX_X + 2 * (dim))
+#define SPH_MONITOR_NCOMP_MAX    SPH_MONITOR_NCOMP(3)
+
 #endif

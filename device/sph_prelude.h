@@ -61,6 +61,9 @@ typedef float real;
 #    define SPH_HAS_ART_STRESS (SPH_FORMULATION == FORMULATION_OAS)
 #    define SPH_HAS_TLSPH      (SPH_FORMULATION == FORMULATION_TLSPH)
 #    define SPH_HAS_PLASTICITY SPH_PLASTIC
+/* TLSPH with a J2 material: the finite-strain return map and the 002
+ * hourglass switch (sph_plasticity.h, tl_step.cl) */
+#    define SPH_HAS_TL_PLASTICITY (SPH_HAS_TLSPH && SPH_PLASTIC)
 typedef uchar u8;
 #    define ATOMIC_MAX_INT(p, v) atomic_max((p), (v))
 #    define REAL_LOWEST          (-INFINITY)
@@ -95,6 +98,8 @@ typedef float real;
 #    define SPH_HAS_ART_STRESS   1
 #    define SPH_HAS_TLSPH        1
 #    define SPH_HAS_PLASTICITY   1
+
+#    define SPH_HAS_TL_PLASTICITY 1
 #    ifndef SPH_HAS_CLAMP
 #        define SPH_HAS_CLAMP 1
 #    endif

@@ -49,10 +49,29 @@
  * locally linear map.  Each pair term is anti-symmetric and along x_ij, so it
  * conserves linear and angular momentum; E is the material's Young's modulus
  * E = 9 K G / (3 K + G).
+ *
+ * Plastic materials (SPH_HAS_TL_PLASTICITY: TLSPH and a yield_stress; none
+ * of this is in the elastic program):
+ *  - tl_deformation replaces SVK by the finite-strain J2 return map of
+ *    sph_plasticity.h (F = F^e F^p, Hencky elasticity, radial return in the
+ *    principal log-strain space; Simo 1992), P = tau F^-T, carrying
+ *    C_p^-1 - I (field plastic_cinv; zero at the start like every field, so
+ *    C_p^-1 = I) and the equivalent plastic strain alpha (plastic_strain);
+ *  - the 002 plasticity switch in tl_acceleration: a particle with non-zero
+ *    plastic strain uses its current yield stress sigma_Y + kappa alpha
+ *    instead of E in the hourglass force (002 §2.1: "E is replaced by the
+ *    yield strength"; without it plastic flow is suppressed, 002 §2.2.6).
+ *    Each particle's modulus weights its own error vector,
+ *      f_i^HG = alpha/2 sum_j V0_i V0_j W(|X_ij|) / |X_ij|^2
+ *               [E_i (F_i X_ij - x_ij) + E_j (F_j X_ij - x_ij)] . hat(x_ij) hat(x_ij),
+ *    which is 002's (E_i + E_j) form resolved per side, is symmetric in
+ *    (i, j) up to the sign of hat(x_ij), so every pair term stays
+ *    anti-symmetric, and equals the elastic formula when E_i = E_j = E.
  */
 #include "sph_vec.h"
 #include "sph_smoothing_kernel.h"
 #include "sph_elasticity.h"
+#include "sph_plasticity.h"
 
 #if SPH_HAS_TLSPH
 
@@ -60,6 +79,14 @@
 #        define TL_CLAMP_PARAMS , GLOBAL const real *restrict pos0, GLOBAL const u8 *restrict fixed
 #    else
 #        define TL_CLAMP_PARAMS
+#    endif
+#    if SPH_HAS_TL_PLASTICITY
+#        define TL_PLASTIC_STATE_PARAMS                                                            \
+            , GLOBAL real *restrict plastic_strain, GLOBAL real *restrict plastic_cinv
+#        define TL_PLASTIC_SWITCH_PARAMS , GLOBAL const real *restrict plastic_strain
+#    else
+#        define TL_PLASTIC_STATE_PARAMS
+#        define TL_PLASTIC_SWITCH_PARAMS
 #    endif
 
 FN vec tl_pair_direction(GLOBAL const real *restrict pair_e, const int stride, const int slot) {
@@ -93,13 +120,46 @@ FN real tl_youngs_modulus(CONSTANT real *prm) {
     return R(9) * k * g / (R(3) * k + g);
 }
 
+#    if SPH_HAS_TL_PLASTICITY
+/* The plastic state of particle i; plastic_cinv holds C_p^-1 - I: the
+ * symmetric block (sph_vec.h order), then in 2D the zz component. */
+FN tl_plastic_state tl_plastic_load(GLOBAL const real *restrict plastic_strain,
+                                    GLOBAL const real *restrict plastic_cinv, const int n,
+                                    const int i) {
+    tl_plastic_state st;
+    st.cpinv_dev = sym_load(plastic_cinv, n, i);
+#        if SPH_DIM == 2
+    st.cpinv_zz_dev = plastic_cinv[NSYM * n + i];
+#        else
+    st.cpinv_zz_dev = R(0);
+#        endif
+    st.alpha = plastic_strain[i];
+    return st;
+}
+
+FN void tl_plastic_store(GLOBAL real *restrict plastic_strain, GLOBAL real *restrict plastic_cinv,
+                         const int n, const int i, const tl_plastic_state st) {
+    sym_store(plastic_cinv, n, i, st.cpinv_dev);
+#        if SPH_DIM == 2
+    plastic_cinv[NSYM * n + i] = st.cpinv_zz_dev;
+#        endif
+    plastic_strain[i] = st.alpha;
+}
+
+/* 002 plasticity switch: the modulus of a particle in the hourglass force,
+ * E while it has not yielded, then its current yield stress. */
+FN real tl_hourglass_modulus(CONSTANT real *prm, const real plastic_strain, const real youngs) {
+    return plastic_strain > R(0) ? prm[PRM_YIELD] + prm[PRM_HARDENING] * plastic_strain : youngs;
+}
+#    endif
+
 KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
                            GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
                            GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
                            GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
                            GLOBAL const real *restrict bmat, GLOBAL real *restrict defgrad,
                            GLOBAL real *restrict pk1, GLOBAL real *restrict rho,
-                           GLOBAL real *restrict tau) {
+                           GLOBAL real *restrict tau TL_PLASTIC_STATE_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -116,7 +176,25 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt,
         g = mat_add_outer(g, pair_dwv[slot], x_ji, tl_pair_direction(pair_e, stride, slot));
     }
     const mat f = mat_mul(g, sym_load(bmat, n, i));
-    const mat p = tl_svk_pk1(f, prm[PRM_LAMBDA], prm[PRM_G]);
+    const real det = mat_det(f);
+    mat p, sigma;
+#    if SPH_HAS_TL_PLASTICITY
+    if (RUNTIME_PLASTIC && PRESENT(plastic_cinv)) {
+        /* finite-strain J2 (sph_plasticity.h): Kirchhoff tau, P = tau F^-T */
+        tl_plastic_state st = tl_plastic_load(plastic_strain, plastic_cinv, n, i);
+        real tau_zz;
+        int yielded;
+        const mat kirchhoff = tl_j2_kirchhoff(f, &st, prm, &tau_zz, &yielded);
+        (void)tau_zz;
+        if (yielded) tl_plastic_store(plastic_strain, plastic_cinv, n, i, st);
+        p = mat_mul(kirchhoff, mat_transpose(mat_inverse(f)));
+        sigma = mat_scale(kirchhoff, R(1) / det);
+    } else
+#    endif
+    {
+        p = tl_svk_pk1(f, prm[PRM_LAMBDA], prm[PRM_G]);
+        sigma = mat_scale(mat_mul(p, mat_transpose(f)), R(1) / det);
+    }
     mat_store(defgrad, n, i, f);
     mat_store(pk1, n, i, p);
 
@@ -124,10 +202,10 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt,
      * J^-1 P F^T.  The snapshots' pressure is then c0^2 (rho - rho0) =
      * K (1/J - 1), which equals -tr(sigma)/d to first order in the strain
      * (exactly so only for linear elasticity), and the strain-energy
-     * diagnostic V (tau:tau/4G + p^2/2K) is the SVK energy to second order. */
-    const real det = mat_det(f);
+     * diagnostic V (tau:tau/4G + p^2/2K) is the SVK energy to second order
+     * (for a plastic material the same small-strain, in-plane estimate of
+     * the stored elastic energy: the plastic work is not in it). */
     rho[i] = prm[PRM_RHO0] / det;
-    mat sigma = mat_scale(mat_mul(p, mat_transpose(f)), R(1) / det);
     const real mean = mat_trace(sigma) / R(SPH_DIM);
     for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= mean;
     sym_store(tau, n, i, sigma);
@@ -141,7 +219,8 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt
                             GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                             GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat,
                             GLOBAL const real *restrict defgrad, GLOBAL const real *restrict pk1,
-                            GLOBAL real *restrict acc_shear, GLOBAL const real *restrict pair_w) {
+                            GLOBAL real *restrict acc_shear,
+                            GLOBAL const real *restrict pair_w TL_PLASTIC_SWITCH_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -149,7 +228,15 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt
     const vec x_i = tl_half_position(pos, vel, n, i, half_dt);
     const mat f_i = mat_load(defgrad, n, i);
     const real alpha = prm[PRM_HOURGLASS];
-    const real hourglass_scale = R(0.5) * alpha * tl_youngs_modulus(prm);
+    const real youngs = tl_youngs_modulus(prm);
+#    if SPH_HAS_TL_PLASTICITY
+    /* the plasticity switch: per-particle moduli inside the pair term */
+    const int switched = RUNTIME_PLASTIC && PRESENT(plastic_strain);
+    const real e_i = switched ? tl_hourglass_modulus(prm, plastic_strain[i], youngs) : youngs;
+    const real hourglass_scale = R(0.5) * alpha * (switched ? R(1) : youngs);
+#    else
+    const real hourglass_scale = R(0.5) * alpha * youngs;
+#    endif
 
     /* sum_j (P_i B_i + P_j B_j) grad W V0_j = P_i B_i sum_j g_ij + sum_j P_j B_j g_ij */
     vec sum_g = vec_zero(), sum_j = vec_zero(), sum_hg = vec_zero();
@@ -169,8 +256,20 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt
             const real r2 = vec_dot(x_ij, x_ij);
             if (r2 > R(0)) {
                 const vec hat = vec_scale(x_ij, R(1) / sqrt(r2));
-                const vec predicted = mat_vec(mat_add(f_i, mat_load(defgrad, n, j)), big_x);
-                const real delta = vec_dot(vec_axpy(predicted, R(-2), x_ij), hat);
+                real delta;
+#    if SPH_HAS_TL_PLASTICITY
+                if (switched) {
+                    /* E_i (F_i X_ij - x_ij).hat + E_j (F_j X_ij - x_ij).hat */
+                    const real e_j = tl_hourglass_modulus(prm, plastic_strain[j], youngs);
+                    const vec err_i = vec_sub(mat_vec(f_i, big_x), x_ij);
+                    const vec err_j = vec_sub(mat_vec(mat_load(defgrad, n, j), big_x), x_ij);
+                    delta = e_i * vec_dot(err_i, hat) + e_j * vec_dot(err_j, hat);
+                } else
+#    endif
+                {
+                    const vec predicted = mat_vec(mat_add(f_i, mat_load(defgrad, n, j)), big_x);
+                    delta = vec_dot(vec_axpy(predicted, R(-2), x_ij), hat);
+                }
                 const real w = pair_w[slot]; /* W(X_ij) V0_j / X_ij^2 */
                 sum_hg = vec_axpy(sum_hg, w * delta, hat);
             }

@@ -59,7 +59,7 @@ typedef struct {
     char name[64];
     size_t bytes;
 } sph_buffer_record;
-#define SPH_MAX_BUFFER_RECORDS 48
+#define SPH_MAX_BUFFER_RECORDS (2 * FIELD_COUNT + 16)
 
 /* Time spent per phase (kernel, or host-side step) when profiling. */
 typedef struct {
@@ -68,8 +68,6 @@ typedef struct {
     double seconds;
 } sph_profile_record;
 #define SPH_MAX_PROFILE_RECORDS 32
-
-#define SPH_MONITOR_NCOMP 3
 
 /* Length of the carried substep state (see sph_backend_ops). */
 #define SPH_CARRIED_LEN (1 + SPH_MAX_BODIES * 9)
@@ -81,8 +79,8 @@ typedef struct {
     /* one acoustic substep of size dt; returns max |v|^2 after it */
     sph_status (*substep)(sph_backend *be, double dt, double *max_speed2, sph_error *err);
     sph_status (*diagnostics)(sph_backend *be, sph_diagnostics *out, sph_error *err);
-    /* instability monitor measures (device/monitor.cl), SPH_MONITOR_NCOMP
-     * values: -min r/dp, max velocity mismatch, max |L| */
+    /* instability monitor measures (device/monitor.cl): the
+     * SPH_MONITOR_NCOMP(dim) values laid out in sph_constants.h */
     sph_status (*monitor)(sph_backend *be, double *out, sph_error *err);
     /* copy a field to the host: real fields as double [components * n],
      * int32 and u8 fields in their own type */

@@ -62,8 +62,30 @@ static double get_real(const cpu_impl *c, const void *buf, size_t index) {
                                   : (double)((const float *)buf)[index];
 }
 
+#define PAIRS_RECORD "neighbour lists and frozen pair geometry"
+
+/* Bytes of one neighbour slot: its index and the frozen pair geometry. */
+static size_t pair_slot_bytes(const sph_features *f, size_t real_size) {
+    const size_t tlsph = f->formulation == SPH_FORMULATION_TLSPH;
+    return sizeof(int32_t) + ((size_t)f->dim + 2 + tlsph) * real_size;
+}
+
 static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *err) {
     const size_t slots = (size_t)be->n * (size_t)cap;
+    /* before allocating: the new lists and everything else must fit */
+    const double need = (double)slots * (double)pair_slot_bytes(&be->features, c->real_size);
+    double others = (double)sph_backend_total_bytes(be);
+    for (int k = 0; k < be->nbuffers; ++k)
+        if (strcmp(be->buffers[k].name, PAIRS_RECORD) == 0) others -= (double)be->buffers[k].bytes;
+    char available[256], need_s[32], others_s[32];
+    if (need + others > sph_host_memory_available(available, sizeof available)) {
+        sph_format_bytes(need, need_s, sizeof need_s);
+        sph_format_bytes(others, others_s, sizeof others_s);
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "the neighbour lists of %d particles with up to %d neighbours each need "
+                        "%s besides the %s of the other buffers, but %s",
+                        be->n, cap, need_s, others_s, available);
+    }
     free(c->b.nbr_j);
     free(c->b.pair_e);
     free(c->b.pair_dwv);
@@ -77,14 +99,16 @@ static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *
     c->b.pair_inv_r = malloc(slots * c->real_size);
     const bool tlsph = be->features.formulation == SPH_FORMULATION_TLSPH;
     if (tlsph) c->b.pair_w = malloc(slots * c->real_size);
-    sph_backend_record_buffer(
-        be, "neighbour lists and frozen pair geometry",
-        slots * (sizeof(int32_t) + (size_t)(be->features.dim + 2 + tlsph) * c->real_size));
+    sph_backend_record_buffer(be, PAIRS_RECORD,
+                              slots * pair_slot_bytes(&be->features, c->real_size));
     if (!c->b.nbr_j || !c->b.pair_e || !c->b.pair_dwv || !c->b.pair_inv_r ||
-        (tlsph && !c->b.pair_w))
+        (tlsph && !c->b.pair_w)) {
+        sph_format_bytes(need, need_s, sizeof need_s);
         return sph_fail(err, SPH_ERR_RUNTIME,
-                        "out of host memory for the neighbour lists (%d particles x %d slots)",
-                        be->n, cap);
+                        "out of host memory for the neighbour lists (%d particles x %d slots, "
+                        "%s); %s",
+                        be->n, cap, need_s, available);
+    }
     return SPH_OK;
 }
 
@@ -363,6 +387,33 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
              f->double_precision ? "double" : "single", sph_rotation_name(f->rotation),
              f->has_clamp ? 1 : 0, f->nbodies);
 
+    /* before allocating: what the run needs must fit in the memory */
+    const int cap0 = sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]);
+    const int ngroups = (n + CPU_GROUP - 1) / CPU_GROUP;
+    double fields_bytes = 0.0;
+    for (int k = 0; k < FIELD_COUNT; ++k)
+        if (be->fields[k].present) fields_bytes += 2.0 * (double)field_bytes(be, (sph_field)k);
+    fields_bytes += (double)n * (2.0 * sizeof(uint64_t) + sizeof(int32_t)) +
+                    (double)ngroups * PARTIAL_NCOMP_MAX * (double)c->real_size;
+    const double pairs_bytes = (double)n * (double)cap0 * (double)pair_slot_bytes(f, c->real_size);
+    const double particles_bytes = (double)n * (double)sph_particles_bytes_each(f->dim, true);
+    char available[256];
+    const double limit = sph_host_memory_available(available, sizeof available);
+    if (fields_bytes + pairs_bytes + particles_bytes > limit) {
+        char total_s[32], fields_s[32], pairs_s[32], particles_s[32];
+        sph_format_bytes(fields_bytes + pairs_bytes + particles_bytes, total_s, sizeof total_s);
+        sph_format_bytes(fields_bytes, fields_s, sizeof fields_s);
+        sph_format_bytes(pairs_bytes, pairs_s, sizeof pairs_s);
+        sph_format_bytes(particles_bytes, particles_s, sizeof particles_s);
+        free(be);
+        free(c);
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "the native backend needs %s of memory for %d particles (%s of fields, "
+                        "%s of neighbour lists, %s of initial particle arrays), but %s; lower "
+                        "the resolution",
+                        total_s, n, fields_s, pairs_s, particles_s, available);
+    }
+
     bool ok = true;
     for (int k = 0; k < FIELD_COUNT; ++k) {
         if (!be->fields[k].present) continue;
@@ -372,7 +423,6 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
         ok = ok && c->b.field[k] && c->spare[k];
         sph_backend_record_buffer(be, be->fields[k].name, 2 * bytes);
     }
-    const int ngroups = (n + CPU_GROUP - 1) / CPU_GROUP;
     c->b.ngroups = ngroups;
     c->b.prm = malloc(PRM_COUNT * c->real_size);
     c->b.grid_geom = malloc(4 * c->real_size);
@@ -385,11 +435,14 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
          c->keys_sorted && c->b.nbr_count;
     if (!ok) {
         cpu_destroy(be);
-        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for %d particles", n);
+        char fields_s[32];
+        sph_format_bytes(fields_bytes, fields_s, sizeof fields_s);
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "out of host memory for the fields of %d particles (%s); %s", n, fields_s,
+                        available);
     }
     for (int k = 0; k < PRM_COUNT; ++k) set_real(c, c->b.prm, (size_t)k, prm[k]);
-    sph_status st = alloc_pairs(
-        be, c, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]), err);
+    sph_status st = alloc_pairs(be, c, cap0, err);
     if (st) {
         cpu_destroy(be);
         return st;

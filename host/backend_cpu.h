@@ -40,8 +40,14 @@ typedef struct {
     void (*substep)(cpu_buffers *b, double dt, double *max_speed2);
     /* kinetic, strain, momentum (dim), angular (1 or 3) */
     void (*diagnostics)(cpu_buffers *b, double *out);
-    /* instability monitor (device/monitor.cl): SPH_MONITOR_NCOMP values */
+    /* instability monitor (device/monitor.cl): SPH_MONITOR_NCOMP(dim) values */
     void (*monitor)(cpu_buffers *b, double *out);
+    /* the monitor's measures of particle i alone, from host copies of the
+     * fields (double, field layout) and row-major neighbour lists: which
+     * particle tripped a check (host/instability.c) */
+    void (*monitor_particle)(const double *prm, int n, int cap, const int32_t *nbr_count,
+                             const int32_t *nbr_j, const double *pos, const double *vel,
+                             const double *vol, const double *bmat, int i, double *out);
     /* physics probes for unit tests and observers */
     double (*kernel_w)(const double *prm, double r);
     double (*kernel_dw)(const double *prm, double r);
@@ -61,6 +67,11 @@ typedef struct {
                           double *alpha);
     /* artificial stress of one particle (OAS), row-major d x d */
     void (*artificial_stress)(const double *tau, double p, double rho, double epsilon, double *r);
+    /* TLSPH finite-strain J2 update of a material point (tl_j2_kirchhoff):
+     * f row-major d x d; state = C_p^-1 (row-major d x d), (C_p^-1)_zz,
+     * alpha, updated in place; tau = Kirchhoff stress (row-major d x d),
+     * then tau_zz.  Returns 1 when it yielded. */
+    int (*tl_j2_update)(const double *prm, const double *f, double *state, double *tau);
 } cpu_kernels;
 
 extern const cpu_kernels cpu_2d_f64, cpu_2d_f32, cpu_3d_f64, cpu_3d_f32;

@@ -13,6 +13,11 @@
 #include "reduction.cl"
 #include "monitor.cl"
 
+/* Components of the largest reduction */
+#define MAX2_(a, b) ((a) > (b) ? (a) : (b))
+#define BLOCK_NCOMP_MAX                                                                            \
+    MAX2_(MAX2_(SUBSTEP_NCOMP_MAX, REBUILD_NCOMP), MAX2_(DIAG_NCOMP, MONITOR_NCOMP))
+
 /* Reduce CONTRIB(i, c) over all particles in blocks of SPH_WG: each block
  * combines its particles in order, then the blocks are combined in order, so
  * the result does not depend on the number of threads. */
@@ -22,8 +27,8 @@
         const int n_ = (b)->n;                                                                     \
         const int ngroups_ = (n_ + SPH_WG - 1) / SPH_WG;                                           \
         _Pragma("omp for schedule(static)") for (int g_ = 0; g_ < ngroups_; ++g_) {                \
-            real acc_[SUBSTEP_NCOMP_MAX > REBUILD_NCOMP ? SUBSTEP_NCOMP_MAX : REBUILD_NCOMP];      \
-            real c_[SUBSTEP_NCOMP_MAX > REBUILD_NCOMP ? SUBSTEP_NCOMP_MAX : REBUILD_NCOMP];        \
+            real acc_[BLOCK_NCOMP_MAX];                                                            \
+            real c_[BLOCK_NCOMP_MAX];                                                              \
             reduce_identity(acc_, (nmax), (ncomp));                                                \
             const int end_ = (g_ + 1) * SPH_WG < n_ ? (g_ + 1) * SPH_WG : n_;                      \
             for (int i = g_ * SPH_WG; i < end_; ++i) {                                             \
@@ -101,7 +106,8 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
             tl_deformation(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                            (const real *)b->pair_dwv, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                            F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD), F_REAL(b, FIELD_PK1),
-                           F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_TAU));
+                           F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_TAU),
+                           F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PLASTIC_CINV));
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             tl_acceleration(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
@@ -109,7 +115,7 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                             F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
                             F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD),
                             F_REAL(b, FIELD_PK1), F_REAL(b, FIELD_ACC_SHEAR),
-                            (const real *)b->pair_w);
+                            (const real *)b->pair_w, F_REAL(b, FIELD_PLASTIC_STRAIN));
 #pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g) {
             const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;
@@ -281,6 +287,38 @@ static void probe_artificial_stress(const double *tau_in, double p, double rho, 
         for (int c = 0; c < SPH_DIM; ++c) r_out[a * SPH_DIM + c] = (double)r.m[a][c];
 }
 
+/* The TLSPH finite-strain J2 update of one material point (sph_plasticity.h,
+ * tl_j2_kirchhoff): f row-major d x d; state[] = C_p^-1 (row-major d x d),
+ * then (C_p^-1)_zz, then alpha, updated; tau_out = the Kirchhoff stress,
+ * row-major d x d, then tau_zz.  Returns 1 when the return map acted. */
+static int probe_tl_j2_update(const double *prm_in, const double *f_in, double *state,
+                              double *tau_out) {
+    real prm[PRM_COUNT];
+    params_to_real(prm_in, prm);
+    const int dd = SPH_DIM * SPH_DIM;
+    mat f;
+    tl_plastic_state st;
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int c = 0; c < SPH_DIM; ++c) {
+            f.m[a][c] = (real)f_in[a * SPH_DIM + c];
+            st.cpinv_dev.m[a][c] = (real)(state[a * SPH_DIM + c] - (a == c ? 1.0 : 0.0));
+        }
+    st.cpinv_zz_dev = (real)(state[dd] - 1.0);
+    st.alpha = (real)state[dd + 1];
+    real tau_zz;
+    int yielded;
+    const mat tau = tl_j2_kirchhoff(f, &st, prm, &tau_zz, &yielded);
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int c = 0; c < SPH_DIM; ++c) {
+            tau_out[a * SPH_DIM + c] = (double)tau.m[a][c];
+            state[a * SPH_DIM + c] = (double)st.cpinv_dev.m[a][c] + (a == c ? 1.0 : 0.0);
+        }
+    tau_out[dd] = (double)tau_zz;
+    state[dd] = (double)st.cpinv_zz_dev + 1.0;
+    state[dd + 1] = (double)st.alpha;
+    return yielded;
+}
+
 static void monitor_impl(cpu_buffers *b, double *out) {
     CONSTANT real *prm = (const real *)b->prm;
     real result[MONITOR_NCOMP];
@@ -292,6 +330,20 @@ static void monitor_impl(cpu_buffers *b, double *out) {
                                  c_));
     for (int k = 0; k < MONITOR_NCOMP; ++k) out[k] = (double)result[k];
 }
+
+#if SPH_DOUBLE
+/* One particle's monitor measures (the f64 instance: real is double). */
+static void monitor_particle_impl(const double *prm_in, int n, int cap, const int32_t *nbr_count,
+                                  const int32_t *nbr_j, const double *pos, const double *vel,
+                                  const double *vol, const double *bmat, int i, double *out) {
+    real prm[PRM_COUNT];
+    params_to_real(prm_in, prm);
+    monitor_contrib(i, n, cap, prm, nbr_count, nbr_j, pos, vel, vol, bmat, out);
+}
+#    define MONITOR_PARTICLE monitor_particle_impl
+#else
+#    define MONITOR_PARTICLE NULL
+#endif
 
 /* Derived output fields from the state, for snapshots: pressure by the EOS,
  * von Mises stress of tau - p I, and tau in VTK's symmetric-tensor order
@@ -326,6 +378,7 @@ const cpu_kernels CPU_VARIANT = {
     .substep = substep_impl,
     .diagnostics = diagnostics_impl,
     .monitor = monitor_impl,
+    .monitor_particle = MONITOR_PARTICLE,
     .kernel_w = probe_kernel_w,
     .kernel_dw = probe_kernel_dw,
     .rodrigues = probe_rodrigues,
@@ -333,4 +386,5 @@ const cpu_kernels CPU_VARIANT = {
     .stress_output = stress_output_impl,
     .stress_update = probe_stress_update,
     .artificial_stress = probe_artificial_stress,
+    .tl_j2_update = probe_tl_j2_update,
 };

@@ -107,6 +107,70 @@ static sph_status make_buffer(sph_backend *be, ocl_impl *o, const char *name, si
     return SPH_OK;
 }
 
+static size_t field_bytes(const sph_backend *be, sph_field f);
+
+/* Before anything is allocated: every buffer the run starts with (neighbour
+ * lists at their initial capacity; the cell ranges, sized at the first
+ * rebuild, estimated at one cell per particle) must fit in the device's
+ * global memory, and each in its largest allocation. */
+static sph_status check_device_memory(const sph_backend *be, const ocl_impl *o, int device_index,
+                                      int cap, sph_error *err) {
+    const double n = (double)be->n, real = (double)o->real_size, slots = n * (double)cap;
+    const bool tlsph = be->features.formulation == SPH_FORMULATION_TLSPH;
+    const struct {
+        const char *name;
+        double bytes;
+        int copies;
+    } fixed[] = {
+        {"nbr_j", slots * sizeof(cl_int), 1},
+        {"pair_e", slots * be->features.dim * real, 1},
+        {"pair_dwv", slots * real, 1},
+        {"pair_inv_r", slots * real, 1},
+        {"pair_w", tlsph ? slots * real : 0.0, 1},
+        {"nbr_count", n * sizeof(cl_int), 1},
+        {"keys", (double)o->npad * sizeof(cl_ulong), 1},
+        {"partials", (double)o->ngroups * PARTIAL_NCOMP_MAX * real, 1},
+        {"cell_start", n * sizeof(cl_int), 2}, /* and cell_end */
+    };
+    double total = 0.0, largest = 0.0;
+    const char *largest_name = "";
+    for (int f = 0; f < FIELD_COUNT; ++f) {
+        if (!be->fields[f].present) continue;
+        const double bytes = (double)field_bytes(be, (sph_field)f);
+        total += 2.0 * bytes; /* the field and its reorder copy */
+        if (bytes > largest) {
+            largest = bytes;
+            largest_name = be->fields[f].name;
+        }
+    }
+    for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) {
+        total += fixed[k].copies * fixed[k].bytes;
+        if (fixed[k].bytes > largest) {
+            largest = fixed[k].bytes;
+            largest_name = fixed[k].name;
+        }
+    }
+    char need_s[32], have_s[32], largest_s[32], alloc_s[32];
+    sph_format_bytes(total, need_s, sizeof need_s);
+    sph_format_bytes((double)o->dev.global_mem, have_s, sizeof have_s);
+    sph_format_bytes(largest, largest_s, sizeof largest_s);
+    sph_format_bytes((double)o->dev.max_alloc, alloc_s, sizeof alloc_s);
+    if (total > (double)o->dev.global_mem)
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "OpenCL device %d (%s) has %s of global memory, but %d particles need %s "
+                        "of buffers (neighbour lists for %d neighbours each); lower the "
+                        "resolution or use --backend cpu",
+                        device_index, o->dev.name, have_s, be->n, need_s, cap);
+    if (largest > (double)o->dev.max_alloc)
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "OpenCL device %d (%s) allocates at most %s per buffer, but buffer '%s' "
+                        "for %d particles needs %s (%s of buffers in all, %s of global memory); "
+                        "lower the resolution or use --backend cpu",
+                        device_index, o->dev.name, alloc_s, largest_name, be->n, largest_s, need_s,
+                        have_s);
+    return SPH_OK;
+}
+
 static void release(cl_mem *m) {
     if (*m) clReleaseMemObject(*m);
     *m = NULL;
@@ -433,8 +497,9 @@ static sph_status ocl_monitor(sph_backend *be, double *out, sph_error *err) {
     ocl_impl *o = be->impl;
     sph_status st =
         launch(o, &o->k.monitor_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
-    if (!st) st = finalize(o, SPH_MONITOR_NCOMP, SPH_MONITOR_NCOMP, o->result, err);
-    if (!st) st = read_reals(o, o->result, 0, SPH_MONITOR_NCOMP, out, err);
+    const int ncomp = SPH_MONITOR_NCOMP(be->features.dim);
+    if (!st) st = finalize(o, ncomp, ncomp, o->result, err);
+    if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, out, err);
     return st;
 }
 
@@ -647,6 +712,11 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     while (o->npad < n) o->npad *= 2;
     o->ngroups = (cl_int)((n + (int)o->wg - 1) / (int)o->wg);
     o->substep_ncomp = f->rotation == SPH_ROTATION_AVERAGED ? 1 + f->nbodies * f->dim * f->dim : 1;
+
+    st = check_device_memory(be, o, device_index,
+                             sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]),
+                             err);
+    if (st) goto fail;
 
     cl_int rc;
     o->ctx = clCreateContext(NULL, 1, &o->dev.device, NULL, NULL, &rc);

@@ -1,12 +1,14 @@
 #include "checkpoint.h"
 
 #include "hdf5_file.h"
+#include "snapshot.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define CHECKPOINT_FORMAT 2
 #define DIAG_VALUES       10 /* kinetic, strain, momentum[3], angular[3], monitor[2] */
@@ -177,6 +179,19 @@ static sph_status read_int(hid_t f, const char *path, const char *name, long *ou
     return st;
 }
 
+/* The snapshots a checkpoint lists were complete when it was taken; a run
+ * that failed later marked them .partial (output.c): a restart continues
+ * that run, so they are results again. */
+static void restore_snapshots(const char *run_dir, long count) {
+    for (long k = 0; k < count && k <= INT32_MAX; ++k) {
+        char name[64], path[1200], partial[1300];
+        sph_snapshot_name((int)k, name, sizeof name);
+        snprintf(path, sizeof path, "%s/%s", run_dir, name);
+        snprintf(partial, sizeof partial, "%s.partial", path);
+        if (access(path, F_OK) != 0 && access(partial, F_OK) == 0) rename(partial, path);
+    }
+}
+
 sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_checkpoint *ck,
                                sph_timeseries *ts, sph_error *err) {
     memset(ck, 0, sizeof *ck);
@@ -212,6 +227,7 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
     }
     free(backend);
     if (!st && nsnap > 0) {
+        restore_snapshots(run_dir, nsnap);
         ck->h.nsnapshots = (int)nsnap;
         ck->h.snapshot_times = malloc((size_t)nsnap * sizeof(double));
         st = ck->h.snapshot_times ? sph_h5_read(f, path, "snapshot_times", H5T_NATIVE_DOUBLE,

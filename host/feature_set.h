@@ -24,7 +24,7 @@ typedef struct {
     sph_kernel kernel;
     sph_stepping stepping;
     bool has_clamp;
-    bool plastic; /* J2 plasticity (003 eqs. 11-14) */
+    bool plastic; /* J2 plasticity (003 eqs. 11-14; TLSPH: finite strain, sph_plasticity.h) */
     int nbodies;
 } sph_features;
 

@@ -35,6 +35,11 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
                                  f->plastic && FORM_HAS_PENALTY(form)},
         [FIELD_PK1] = {"pk1", FIELD_TYPE_REAL, d * d, form == FORMULATION_TLSPH},
         [FIELD_DEFGRAD] = {"defgrad", FIELD_TYPE_REAL, d * d, form == FORMULATION_TLSPH},
+        /* finite-strain J2 of TLSPH (device/sph_plasticity.h): C_p^-1 stored
+         * as C_p^-1 - I, so that the zero fill of the upload is C_p^-1 = I;
+         * 2D is plane strain, which adds (C_p^-1)_zz */
+        [FIELD_PLASTIC_CINV] = {"plastic_cinv", FIELD_TYPE_REAL, d == 2 ? nsym + 1 : nsym,
+                                f->plastic && form == FORMULATION_TLSPH},
     };
     for (int k = 0; k < FIELD_COUNT; ++k) out[k] = table[k];
 }

@@ -39,6 +39,7 @@ typedef enum {
     FIELD_PENALTY_SCALE,  /* per-particle penalty coefficient s_i (plastic GNOG family) */
     FIELD_PK1,            /* first Piola-Kirchhoff stress P, full d x d (TLSPH) */
     FIELD_DEFGRAD,        /* deformation gradient F, full d x d (TLSPH) */
+    FIELD_PLASTIC_CINV,   /* plastic TLSPH: C_p^-1 - I, symmetric, then (2D) its zz component */
     FIELD_COUNT
 } sph_field;
 

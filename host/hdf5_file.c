@@ -2,6 +2,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,18 +17,36 @@ static void quiet_hdf5(void) {
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
 }
 
+/* An HDF5 call on the in-memory file failed: HDF5 then ran out of memory
+ * (disk errors come only from sph_h5_commit). */
 static sph_status write_failed(const sph_h5_writer *w, const char *what, sph_error *err) {
-    return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s (%s): %s", w->partial, what,
-                    errno ? strerror(errno) : "HDF5 error (disk full?)");
+    return sph_fail(err, SPH_ERR_RUNTIME, "cannot build %s (%s): HDF5 error (out of memory?)",
+                    w->path, what);
+}
+
+bool sph_test_disk_full(const char *path) {
+    const char *s = getenv("SPHSOLID_TEST_DISK_FULL");
+    return s && *s && strstr(path, s) != NULL;
 }
 
 sph_status sph_h5_create(sph_h5_writer *w, const char *path, sph_error *err) {
     quiet_hdf5();
+    w->file = -1;
     snprintf(w->path, sizeof w->path, "%s", path);
     snprintf(w->partial, sizeof w->partial, "%s.partial", path);
-    errno = 0;
-    w->file = H5Fcreate(w->partial, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (w->file < 0) return write_failed(w, "create", err);
+    w->fd = open(w->partial, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (w->fd < 0)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", w->partial, strerror(errno));
+    /* in memory, grown 4 MiB at a time; nothing is written through HDF5 */
+    const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    if (fapl >= 0 && H5Pset_fapl_core(fapl, (size_t)4 << 20, 0) >= 0)
+        w->file = H5Fcreate(w->partial, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    if (fapl >= 0) H5Pclose(fapl);
+    if (w->file < 0) {
+        const sph_status st = write_failed(w, "create", err);
+        sph_h5_abandon(w);
+        return st;
+    }
     return SPH_OK;
 }
 
@@ -43,25 +62,51 @@ static void test_write_delay(void) {
     nanosleep(&ts, NULL);
 }
 
+static bool write_all(int fd, const char *buf, size_t len) {
+    while (len > 0) {
+        const ssize_t got = write(fd, buf, len);
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) {
+            if (got == 0) errno = EIO;
+            return false;
+        }
+        buf += got;
+        len -= (size_t)got;
+    }
+    return true;
+}
+
 sph_status sph_h5_commit(sph_h5_writer *w, bool sync, sph_error *err) {
     if (sync) test_write_delay();
-    errno = 0;
-    const herr_t rc = H5Fclose(w->file);
-    w->file = -1;
-    if (rc < 0) {
-        const sph_status st = write_failed(w, "close", err);
-        unlink(w->partial);
+    /* the image of the finished file */
+    char *image = NULL;
+    ssize_t size =
+        H5Fflush(w->file, H5F_SCOPE_GLOBAL) < 0 ? -1 : H5Fget_file_image(w->file, NULL, 0);
+    if (size > 0) image = malloc((size_t)size);
+    if (!image || H5Fget_file_image(w->file, image, (size_t)size) != size) {
+        free(image);
+        const sph_status st = write_failed(w, "image", err);
+        sph_h5_abandon(w);
         return st;
     }
-    if (sync) {
-        const int fd = open(w->partial, O_RDONLY);
-        if (fd < 0 || fsync(fd) != 0) {
-            const sph_status st = write_failed(w, "sync", err);
-            if (fd >= 0) close(fd);
-            unlink(w->partial);
-            return st;
-        }
-        close(fd);
+    H5Fclose(w->file);
+    w->file = -1;
+    bool ok;
+    if (sph_test_disk_full(w->path)) {
+        errno = ENOSPC;
+        ok = false;
+    } else {
+        ok = write_all(w->fd, image, (size_t)size) && (!sync || fsync(w->fd) == 0);
+    }
+    free(image);
+    const int write_errno = errno;
+    const int closed = close(w->fd);
+    w->fd = -1;
+    if (!ok || closed != 0) {
+        const sph_status st = sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", w->partial,
+                                       strerror(ok ? errno : write_errno));
+        unlink(w->partial);
+        return st;
     }
     if (rename(w->partial, w->path) != 0) {
         const sph_status st = sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s to %s: %s",
@@ -75,6 +120,8 @@ sph_status sph_h5_commit(sph_h5_writer *w, bool sync, sph_error *err) {
 void sph_h5_abandon(sph_h5_writer *w) {
     if (w->file >= 0) H5Fclose(w->file);
     w->file = -1;
+    if (w->fd >= 0) close(w->fd);
+    w->fd = -1;
     unlink(w->partial);
 }
 

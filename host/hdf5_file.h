@@ -3,8 +3,13 @@
  * A file is created as `<path>.partial` and renamed to `<path>` only after
  * every dataset is written and the file is closed (and, for checkpoints,
  * synced), so a run killed mid-write leaves the previous file of that name
- * untouched.  The helpers wrap the numbered HDF5 calls with sph_status errors
- * that name the file; HDF5's own error-stack printing is switched off.
+ * untouched.  The HDF5 file is built in memory (the core driver, no backing
+ * store) and written to `<path>.partial` by sph_h5_commit with plain write
+ * calls: a full disk or any other write error is then an errno for the
+ * message, and HDF5 never holds a file it cannot flush (which it would try
+ * to close again, and crash, at exit).  The helpers wrap the numbered HDF5
+ * calls with sph_status errors that name the file; HDF5's own error-stack
+ * printing is switched off.
  */
 #ifndef SPH_HDF5_FILE_H
 #define SPH_HDF5_FILE_H
@@ -16,16 +21,25 @@
 #include <stdint.h>
 
 typedef struct {
-    hid_t file;
+    hid_t file;         /* the file, in memory */
+    int fd;             /* `partial`, open from create to commit */
     char path[1100];    /* the final name */
     char partial[1200]; /* where it is written */
 } sph_h5_writer;
 
+/* Create `<path>.partial` (an error names it if it cannot be) and start the
+ * file in memory. */
 sph_status sph_h5_create(sph_h5_writer *w, const char *path, sph_error *err);
-/* Close, optionally fsync, and rename into place. */
+/* Write the file to `<path>.partial`, optionally fsync, close and rename
+ * into place; on failure remove the partial file. */
 sph_status sph_h5_commit(sph_h5_writer *w, bool sync, sph_error *err);
 /* Close and remove the partial file (after an error). */
 void sph_h5_abandon(sph_h5_writer *w);
+
+/* Fault injection for tests/test_bad_input.py where no small filesystem can
+ * be mounted: true when SPHSOLID_TEST_DISK_FULL is set and `path` contains
+ * its value; the run's writers then fail that file with ENOSPC. */
+bool sph_test_disk_full(const char *path);
 
 /* A dataset of `rank` <= 2 dimensions from `data` in memory type `memtype`,
  * stored as `filetype`; chunked and compressed (shuffle + deflate) when it

@@ -1,9 +1,50 @@
 #include "output.h"
 
+#include "hdf5_file.h"
+
+#include <dirent.h>
 #include <errno.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+/* A failed run leaves nothing that looks like a complete result: the time
+ * series, the snapshots and their index get (or keep) the `.partial` suffix;
+ * they stay for inspection.  The checkpoint stays as it is: it is a restart
+ * point, not a result (a restart renames the snapshots it keeps back,
+ * checkpoint.c). */
+static void demote_results(const char *dir) {
+    char from[1400], to[1500];
+    const char *files[] = {"timeseries.csv", "snapshots.hdf.series"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; ++k) {
+        snprintf(from, sizeof from, "%s/%s", dir, files[k]);
+        snprintf(to, sizeof to, "%s.partial", from);
+        if (access(from, F_OK) == 0) rename(from, to);
+    }
+    char sub[1100];
+    snprintf(sub, sizeof sub, "%s/snapshots", dir);
+    DIR *d = opendir(sub);
+    if (!d) return;
+    for (struct dirent *e = readdir(d); e; e = readdir(d)) {
+        int index = -1, used = 0;
+        if (sscanf(e->d_name, "snapshot_%d.hdf%n", &index, &used) != 1 || e->d_name[used] != '\0')
+            continue;
+        snprintf(from, sizeof from, "%s/%s", sub, e->d_name);
+        snprintf(to, sizeof to, "%s.partial", from);
+        rename(from, to);
+    }
+    closedir(d);
+}
+
+/* A stream's pending output reached the disk; with SPHSOLID_TEST_DISK_FULL
+ * matching `path`, it did not (ENOSPC). */
+static bool stream_ok(FILE *f, const char *path) {
+    if (sph_test_disk_full(path)) {
+        errno = ENOSPC;
+        return false;
+    }
+    return !ferror(f) && fflush(f) == 0;
+}
 
 static sph_status make_dirs(const char *dir, sph_error *err) {
     char path[1024];
@@ -64,7 +105,7 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
         for (int a = 0; a < scene->dim; ++a)
             fprintf(out->csv, ",%s_%s", scene->observers[o].name, axis_name(a));
     fputc('\n', out->csv);
-    if (ferror(out->csv))
+    if (!stream_ok(out->csv, out->csv_partial))
         return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
                         strerror(errno));
     const size_t per_row = (size_t)(scene->nobservers * scene->dim);
@@ -88,7 +129,7 @@ sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
     fprintf(f, ",%.6g,%.6g", d->min_distance_ratio, d->zigzag);
     for (int k = 0; k < out->nobservers * out->dim; ++k) fprintf(f, ",%.12g", observers[k]);
     fputc('\n', f);
-    if (ferror(f) || fflush(f) != 0)
+    if (!stream_ok(f, out->csv_partial))
         return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
                         strerror(errno));
     return SPH_OK;
@@ -98,13 +139,22 @@ sph_status sph_output_close(sph_output *out, bool success, sph_error *err) {
     if (!out->csv) return SPH_OK;
     const int failed = ferror(out->csv) | fclose(out->csv);
     out->csv = NULL;
-    if (!success) return SPH_OK;
-    if (failed)
-        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
-                        strerror(errno));
-    if (rename(out->csv_partial, out->csv_final) != 0)
-        return sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s to %s: %s", out->csv_partial,
-                        out->csv_final, strerror(errno));
+    if (!success) {
+        demote_results(out->dir);
+        return SPH_OK;
+    }
+    if (failed) {
+        const sph_status st = sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s",
+                                       out->csv_partial, strerror(errno));
+        demote_results(out->dir);
+        return st;
+    }
+    if (rename(out->csv_partial, out->csv_final) != 0) {
+        const sph_status st = sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s to %s: %s",
+                                       out->csv_partial, out->csv_final, strerror(errno));
+        demote_results(out->dir);
+        return st;
+    }
     return SPH_OK;
 }
 
@@ -113,17 +163,33 @@ sph_status sph_output_write_json(const char *dir, const char *name, json_object 
     char final_path[1100], partial[1200];
     snprintf(final_path, sizeof final_path, "%s/%s", dir, name);
     snprintf(partial, sizeof partial, "%s.partial", final_path);
+    /* summary.json is written last: without it the run is not complete */
+    const bool summary = strcmp(name, "summary.json") == 0;
     FILE *f = fopen(partial, "w");
-    if (!f) return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial, strerror(errno));
+    if (!f) {
+        const sph_status st =
+            sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial, strerror(errno));
+        if (summary) demote_results(dir);
+        return st;
+    }
     const char *text = json_object_to_json_string_ext(obj, JSON_C_TO_STRING_PRETTY |
                                                                JSON_C_TO_STRING_NOSLASHESCAPE);
-    const int bad = fputs(text, f) < 0 || fputc('\n', f) == EOF;
+    const bool bad = fputs(text, f) < 0 || fputc('\n', f) == EOF || !stream_ok(f, partial);
+    const int write_errno = errno;
     const int closed = fclose(f);
     if (bad || closed != 0) {
+        const sph_status st = sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial,
+                                       strerror(bad ? write_errno : errno));
         unlink(partial);
-        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial, strerror(errno));
+        if (summary) demote_results(dir);
+        return st;
     }
-    if (rename(partial, final_path) != 0)
-        return sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s: %s", partial, strerror(errno));
+    if (rename(partial, final_path) != 0) {
+        const sph_status st =
+            sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s: %s", partial, strerror(errno));
+        unlink(partial);
+        if (summary) demote_results(dir);
+        return st;
+    }
     return SPH_OK;
 }

@@ -31,9 +31,14 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
                            const sph_timeseries *resumed, sph_error *err);
 sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
                           const double *observers, sph_error *err);
-/* Close the CSV; on success rename it to timeseries.csv. */
+/* Close the CSV; on success rename it to timeseries.csv.  A failed run
+ * (`success` false, or a failure here) leaves no result that looks complete:
+ * timeseries.csv, the snapshots and their .series index get the suffix
+ * .partial (the checkpoint stays: it is where a restart continues). */
 sph_status sph_output_close(sph_output *out, bool success, sph_error *err);
-/* Write `name` in `dir` through `name.partial` and rename. */
+/* Write `name` in `dir` through `name.partial` and rename.  A summary.json
+ * that cannot be written fails the run: its results are marked .partial as
+ * in sph_output_close. */
 sph_status sph_output_write_json(const char *dir, const char *name, json_object *obj,
                                  sph_error *err);
 

@@ -3,8 +3,11 @@
 #include "particles.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 /* 003 eq. 51: the first bending mode of a clamped-free plate,
  * f(s) = (sin kL + sinh kL)(cos ks - cosh ks) - (cos kL + cosh kL)(sin ks - sinh ks). */
@@ -61,11 +64,35 @@ static void index_range(double lo, double hi, double origin, double dp, long *fi
     *last = (long)floor((hi - origin) / dp - 0.5);
 }
 
+/* Are the points around x (a small step along every axis, both ways) in
+ * both shapes?  A lattice point that two bodies share only because it lies
+ * on a face where they touch is not; one inside a common volume is. */
+static bool shared_volume(const sph_scene *scene, int s1, int s2, const double x[3]) {
+    for (int a = 0; a < scene->dim; a++) {
+        const double eps = fmax(1e-6 * scene->dp, 1e-12 * fabs(x[a]));
+        for (int sign = -1; sign <= 1; sign += 2) {
+            double y[3] = {x[0], x[1], x[2]};
+            y[a] += sign * eps;
+            if (!sph_shape_contains(scene, s1, y) || !sph_shape_contains(scene, s2, y))
+                return false;
+        }
+    }
+    return true;
+}
+
+/* The first point where a body overlaps an earlier one. */
+typedef struct {
+    int other; /* the earlier body, -1: none */
+    double x[3];
+} overlap_info;
+
 /* Visit the lattice points owned by body b, in z, y, x order (x fastest),
- * and return their number.  With `out` NULL only counts; otherwise also
- * writes them as particles start, start + 1, ... */
+ * and return their number.  With `out` NULL only counts, and stops with -1
+ * at the first point inside the volume of an earlier body (`overlap`);
+ * otherwise also writes them as particles start, start + 1, ...  A point on
+ * a face two bodies share belongs to the earlier one. */
 static long scan_body(const sph_scene *scene, int b, const double origin[3], sph_particles *out,
-                      long start) {
+                      long start, overlap_info *overlap) {
     const int dim = scene->dim;
     const double dp = scene->dp;
     const sph_body *body = &scene->bodies[b];
@@ -82,10 +109,16 @@ static long scan_body(const sph_scene *scene, int b, const double origin[3], sph
                 double x[3] = {0, 0, 0};
                 for (int a = 0; a < dim; a++) x[a] = origin[a] + ((double)idx[a] + 0.5) * dp;
                 if (!sph_shape_contains(scene, body->shape, x)) continue;
-                /* the first body in scene order owns a shared point */
                 bool taken = false;
-                for (int e = 0; e < b && !taken; e++)
+                for (int e = 0; e < b && !taken; e++) {
                     taken = sph_shape_contains(scene, scene->bodies[e].shape, x);
+                    if (taken && overlap &&
+                        shared_volume(scene, body->shape, scene->bodies[e].shape, x)) {
+                        overlap->other = e;
+                        for (int a = 0; a < 3; a++) overlap->x[a] = x[a];
+                        return -1;
+                    }
+                }
                 if (taken) continue;
                 if (out) {
                     const sph_material *mat = &scene->materials[body->material];
@@ -116,6 +149,62 @@ static long scan_body(const sph_scene *scene, int b, const double origin[3], sph
     return n - start;
 }
 
+/* "(x, y)" or "(x, y, z)" */
+static void format_point(const double x[3], int dim, char *buf, size_t len) {
+    if (dim == 2)
+        snprintf(buf, len, "(%g, %g)", x[0], x[1]);
+    else
+        snprintf(buf, len, "(%g, %g, %g)", x[0], x[1], x[2]);
+}
+
+void sph_format_bytes(double bytes, char *buf, size_t len) {
+    static const char *const units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 6) {
+        bytes /= 1024.0;
+        u++;
+    }
+    if (u == 0)
+        snprintf(buf, len, "%.0f bytes", bytes);
+    else
+        snprintf(buf, len, "%.1f %s", bytes, units[u]);
+}
+
+double sph_host_memory_available(char *describe, size_t len) {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    const double physical = pages > 0 && page > 0 ? (double)pages * (double)page : INFINITY;
+    double limit = physical;
+    const char *which = NULL;
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_DATA, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        (double)rl.rlim_cur < limit) {
+        limit = (double)rl.rlim_cur;
+        which = "its data-size limit, ulimit -d";
+    }
+    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        (double)rl.rlim_cur < limit) {
+        limit = (double)rl.rlim_cur;
+        which = "its address-space limit, ulimit -v";
+    }
+    char phys[32], lim[32];
+    sph_format_bytes(physical, phys, sizeof phys);
+    sph_format_bytes(limit, lim, sizeof lim);
+    if (!isfinite(physical))
+        snprintf(describe, len, "the size of this machine's memory is unknown");
+    else if (which)
+        snprintf(describe, len,
+                 "this process may use %s (%s; the machine has %s of physical memory)", lim, which,
+                 phys);
+    else
+        snprintf(describe, len, "this machine has %s of physical memory", phys);
+    return limit;
+}
+
+size_t sph_particles_bytes_each(int dim, bool constrained) {
+    return 2 * (size_t)dim * sizeof(double) /* pos, vel */ + 2 * sizeof(double) /* mass, rho */ +
+           sizeof(int32_t) + sizeof(uint8_t) + (constrained ? sizeof(uint8_t) : 0);
+}
+
 sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sph_error *err) {
     memset(out, 0, sizeof *out);
     const int dim = scene->dim;
@@ -134,44 +223,81 @@ sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sp
         }
     }
 
-    /* guard the scan itself: a tiny dp in a large box would loop for ages */
+    bool any_constraint = false;
+    for (int b = 0; b < scene->nbodies; b++) any_constraint |= scene->bodies[b].nconstraints > 0;
+    const double each = (double)sph_particles_bytes_each(dim, any_constraint);
+    char available[256], need[32];
+
+    /* guard the scan itself: a tiny dp in a large box would loop for ages,
+     * and more particles than fit the memory or an int32 index cannot run */
     long total = 0;
     for (int b = 0; b < scene->nbodies; b++) {
         double lo[3], hi[3], points = 1.0;
         sph_shape_bounds(scene, scene->bodies[b].shape, lo, hi);
         for (int a = 0; a < dim; a++) points *= (hi[a] - lo[a]) / scene->dp + 1.0;
-        if (points > (double)INT32_MAX)
-            return sph_fail(err, SPH_ERR_INPUT,
-                            "%s: bodies.%s: about %.3g lattice points in the bounding box of its "
-                            "shape at dp = %g, more than this program can index (%d)",
-                            scene->path, scene->bodies[b].name, points, scene->dp, INT32_MAX);
+        if (!(points <= (double)INT32_MAX)) {
+            const double limit = sph_host_memory_available(available, sizeof available);
+            sph_format_bytes(points * each, need, sizeof need);
+            if (points * each > limit)
+                return sph_fail(err, SPH_ERR_RUNTIME,
+                                "%s: at dp = %g the shape of body '%s' spans about %.3g lattice "
+                                "points, and that many particles need at least %s of memory for "
+                                "their initial arrays alone, but %s; lower the resolution",
+                                scene->path, scene->dp, scene->bodies[b].name, points, need,
+                                available);
+            return sph_fail(err, SPH_ERR_RUNTIME,
+                            "%s: at dp = %g the shape of body '%s' spans about %.3g lattice "
+                            "points, more particles than this program can index (%d); lower the "
+                            "resolution",
+                            scene->path, scene->dp, scene->bodies[b].name, points, INT32_MAX);
+        }
         /* lattice indices are counted from the origin and must fit a long */
         for (int a = 0; a < dim; a++) {
             double cells = fmax(fabs(lo[a] - origin[a]), fabs(hi[a] - origin[a])) / scene->dp;
             if (!(cells <= 1e15))
                 return sph_fail(err, SPH_ERR_INPUT,
-                                "%s: bodies.%s: the shape lies about %.3g spacings (dp = %g) "
-                                "from the lattice origin along %c, too far to place particles",
-                                scene->path, scene->bodies[b].name, cells, scene->dp, "xyz"[a]);
+                                "%s: the shape lies about %.3g spacings (dp = %g) from the "
+                                "lattice origin along %c, too far to place particles",
+                                scene->bodies[b].where, cells, scene->dp, "xyz"[a]);
         }
     }
     for (int b = 0; b < scene->nbodies; b++) {
-        long count = scan_body(scene, b, origin, NULL, 0);
+        overlap_info ov = {-1, {0, 0, 0}};
+        long count = scan_body(scene, b, origin, NULL, 0, &ov);
+        if (count < 0) {
+            const sph_body *body = &scene->bodies[b], *other = &scene->bodies[ov.other];
+            char point[96];
+            format_point(ov.x, dim, point, sizeof point);
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s: overlaps body '%s' (%s): its shape '%s' and shape '%s' both "
+                            "contain the point %s; bodies may touch but must not overlap",
+                            body->where, other->name, other->where, scene->shapes[body->shape].name,
+                            scene->shapes[other->shape].name, point);
+        }
         if (count == 0)
             return sph_fail(err, SPH_ERR_INPUT,
-                            "%s: bodies.%s: the body has no particles: no lattice point (spacing "
-                            "dp = %g) of its shape '%s' is free of earlier bodies",
-                            scene->path, scene->bodies[b].name, scene->dp,
+                            "%s: the body has no particles: no lattice point (spacing dp = %g) "
+                            "of its shape '%s' is free of earlier bodies",
+                            scene->bodies[b].where, scene->dp,
                             scene->shapes[scene->bodies[b].shape].name);
         out->body_count[b] = (int)count;
         total += count;
         if (total > INT32_MAX)
-            return sph_fail(err, SPH_ERR_INPUT, "%s: more than %d particles", scene->path,
-                            INT32_MAX);
+            return sph_fail(err, SPH_ERR_RUNTIME,
+                            "%s: more than %d particles, more than this program can index; "
+                            "lower the resolution",
+                            scene->path, INT32_MAX);
+    }
+    /* before allocating: the particle arrays must fit in the memory */
+    const double limit = sph_host_memory_available(available, sizeof available);
+    if ((double)total * each > limit) {
+        sph_format_bytes((double)total * each, need, sizeof need);
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "%s: %ld particles at dp = %g need %s of memory for their initial arrays "
+                        "alone, but %s; lower the resolution",
+                        scene->path, total, scene->dp, need, available);
     }
 
-    bool any_constraint = false;
-    for (int b = 0; b < scene->nbodies; b++) any_constraint |= scene->bodies[b].nconstraints > 0;
     size_t n = (size_t)total;
     out->n = (int)total;
     out->pos = malloc((size_t)dim * n * sizeof *out->pos);
@@ -184,11 +310,13 @@ sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sp
     if (!out->pos || !out->vel || !out->mass || !out->rho || !out->id || !out->body ||
         (any_constraint && !out->fixed)) {
         sph_particles_free(out);
-        return sph_fail(err, SPH_ERR_RUNTIME, "out of memory allocating %zu particles", n);
+        sph_format_bytes((double)total * each, need, sizeof need);
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of memory allocating %zu particles (%s); %s", n,
+                        need, available);
     }
 
     long start = 0;
-    for (int b = 0; b < scene->nbodies; b++) start += scan_body(scene, b, origin, out, start);
+    for (int b = 0; b < scene->nbodies; b++) start += scan_body(scene, b, origin, out, start, NULL);
 
     /* extreme but finite inputs can overflow the initial velocity (a rigid
      * rotation far from its centre, a cantilever mode with a large kl) or the
@@ -206,10 +334,34 @@ sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sp
         double mass = out->mass[i];
         sph_particles_free(out);
         return sph_fail(err, SPH_ERR_INPUT,
-                        "%s: bodies.%s: the particle at (%g, %g, %g) gets velocity (%g, %g, %g) "
-                        "and mass %g (density * dp^%d): not finite (check initial_velocity, "
-                        "density and the spacing)",
-                        scene->path, body->name, x[0], x[1], x[2], v[0], v[1], v[2], mass, dim);
+                        "%s: the particle at (%g, %g, %g) gets velocity (%g, %g, %g) and mass %g "
+                        "(density * dp^%d): not finite (check initial_velocity, density and the "
+                        "spacing)",
+                        body->where, x[0], x[1], x[2], v[0], v[1], v[2], mass, dim);
+    }
+
+    /* every observer needs particles within the kernel support to follow
+     * (the interpolation of observers.c) */
+    const double cutoff = 2.0 * scene->smoothing_ratio * scene->dp;
+    for (int o = 0; o < scene->nobservers; o++) {
+        const double *xo = scene->observers[o].position;
+        bool near = false;
+        for (size_t i = 0; i < n && !near; i++) {
+            double r2 = 0.0;
+            for (int a = 0; a < dim; a++) {
+                const double d = out->pos[(size_t)a * n + i] - xo[a];
+                r2 += d * d;
+            }
+            near = r2 < cutoff * cutoff;
+        }
+        if (near) continue;
+        char point[96];
+        format_point(xo, dim, point, sizeof point);
+        sph_particles_free(out);
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "%s: %s is outside every body: no particle lies within the kernel "
+                        "support 2h = %g m of it; place the observer inside a body",
+                        scene->observers[o].where, point, cutoff);
     }
     return SPH_OK;
 }

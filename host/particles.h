@@ -15,6 +15,8 @@
 
 #include "scene.h"
 
+#include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct {
@@ -30,8 +32,25 @@ typedef struct {
     int fixed_count;
 } sph_particles;
 
+/* Place the particles.  Input errors (SPH_ERR_INPUT, naming the body or
+ * observer with its file and line): bodies that overlap (they may touch),
+ * a body without particles, an observer with no particle within 2h.
+ * Runtime errors (SPH_ERR_RUNTIME): more particles than the memory holds
+ * (checked before allocating, against sph_host_memory_available) or than an
+ * int32 indexes. */
 sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sph_error *err);
 void sph_particles_free(sph_particles *p);
+
+/* Host bytes of one particle in sph_particles. */
+size_t sph_particles_bytes_each(int dim, bool constrained);
+
+/* The host memory this process can use, in bytes: the physical memory, or
+ * less under a data-size or address-space limit (ulimit -d, -v).
+ * `describe` gets the sentence that says so ("this machine has 23.4 GiB of
+ * physical memory"), for messages. */
+double sph_host_memory_available(char *describe, size_t len);
+/* "12.3 GiB" */
+void sph_format_bytes(double bytes, char *buf, size_t len);
 
 /* The initial velocity of a body's velocity field at point x. */
 void sph_velocity_field_eval(const sph_scene *scene, const sph_body *body, const double x[3],

@@ -144,8 +144,7 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object *root = json_object_new_object();
     json_object_object_add(root, "sphsolid_version", json_object_new_string(SPHSOLID_VERSION));
     json_object_object_add(root, "commit", json_object_new_string(SPHSOLID_COMMIT));
-    const bool unstable =
-        isfinite(sim->stats.instability_time) && sim->scene.monitor_action == SPH_MONITOR_STOP;
+    const bool unstable = isfinite(sim->stats.instability_time) && sim->stats.instability_stopped;
     json_object_object_add(root, "status",
                            json_object_new_string(unstable ? "unstable" : "completed"));
     if (isfinite(sim->stats.instability_time)) {
@@ -153,9 +152,23 @@ static json_object *summary_json(const sph_simulation *sim) {
         json_object_object_add(ins, "time", json_object_new_double(sim->stats.instability_time));
         json_object_object_add(ins, "quantity",
                                json_object_new_string(sim->stats.instability_quantity));
-        json_object_object_add(ins, "value", json_object_new_double(sim->stats.instability_value));
-        json_object_object_add(ins, "threshold",
-                               json_object_new_double(sim->stats.instability_threshold));
+        json_object_object_add(ins, "value", num(sim->stats.instability_value));
+        json_object_object_add(ins, "threshold", num(sim->stats.instability_threshold));
+        if (sim->stats.instability_field[0])
+            json_object_object_add(ins, "field",
+                                   json_object_new_string(sim->stats.instability_field));
+        if (sim->stats.instability_particle >= 0) {
+            const int b = sim->stats.instability_body;
+            json_object_object_add(ins, "particle",
+                                   json_object_new_int64(sim->stats.instability_particle));
+            json_object_object_add(ins, "body", json_object_new_string(sc->bodies[b].name));
+            json_object *x = json_object_new_array();
+            for (int k = 0; k < sc->dim; ++k)
+                json_object_array_add(x,
+                                      json_object_new_double(sim->stats.instability_position[k]));
+            json_object_object_add(ins, "position", x);
+        }
+        json_object_object_add(ins, "stopped", json_object_new_boolean(unstable));
         json_object_object_add(root, "instability", ins);
     }
 

@@ -152,6 +152,22 @@ fail_at(loader *L, const config_setting_t *s, const char *key, const char *fmt, 
     return sph_fail(L->err, SPH_ERR_INPUT, "%s: %s: %s", L->file, path, what);
 }
 
+/* The prefix fail_at would give setting s ("<file>:<line>: <path>" or
+ * "--set <override>: <path>"), kept in the scene for messages about a body
+ * or an observer after loading (particles.c). */
+static void where_of(const loader *L, const config_setting_t *s, char *buf, size_t size) {
+    char path[768];
+    setting_path(s, path, sizeof path);
+    const char *ov = override_of(s);
+    const unsigned line = config_setting_source_line(s);
+    if (ov)
+        sph_format(buf, size, "--set %s: %s", ov, path);
+    else if (line > 0)
+        sph_format(buf, size, "%s:%u: %s", L->file, line, path);
+    else
+        sph_format(buf, size, "%s: %s", L->file, path);
+}
+
 /* Optimal-string-alignment edit distance (adjacent transpositions count
  * one), for "did you mean" suggestions. */
 static int edit_distance(const char *a, const char *b) {
@@ -569,8 +585,9 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
         snprintf(walked + wl, sizeof walked - wl, "%s%s", wl ? "." : "", comp);
         /* optional groups a scene may leave out are created on demand, so
          * that e.g. --set output.snapshot_interval=0 works on any scene */
-        static const char *const optional_groups[] = {"output", "analysis", "analysis.period",
-                                                      "monitor", "method.artificial_stress"};
+        static const char *const optional_groups[] = {
+            "output",  "analysis",       "analysis.period",
+            "monitor", "monitor.domain", "method.artificial_stress"};
         for (size_t g = 0; !child && config_setting_is_group(parent) &&
                            g < sizeof optional_groups / sizeof optional_groups[0];
              ++g)
@@ -1147,6 +1164,7 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
             return fail_at(L, at, NULL, "duplicate body name '%s' (bodies.[%d] has it too)", name,
                            i);
     snprintf(body->name, sizeof body->name, "%s", name);
+    where_of(L, b, body->where, sizeof body->where);
 
     if ((st = get_name(L, b, "material", &material, &at))) return st;
     body->material = find_material(sc, material);
@@ -1228,8 +1246,9 @@ static sph_status parse_observers(loader *L, const config_setting_t *root) {
                 return fail_at(L, at, NULL,
                                "duplicate observer name '%s' (observers.[%d] has it too)", name, k);
         snprintf(sc->observers[i].name, sizeof sc->observers[i].name, "%s", name);
-        if ((st = get_vector(L, o, "position", true, sc->dim, sc->observers[i].position, NULL)))
+        if ((st = get_vector(L, o, "position", true, sc->dim, sc->observers[i].position, &at)))
             return st;
+        where_of(L, at, sc->observers[i].where, sizeof sc->observers[i].where);
     }
     sc->nobservers = n;
     return SPH_OK;
@@ -1342,7 +1361,9 @@ static sph_status parse_output(loader *L, const config_setting_t *root) {
 }
 
 /* The formulation and the material model must fit: ENOG and ENOG-A have no
- * stress to return to a yield surface (003 §4.2), so they are elastic only.
+ * stress to return to a yield surface (003 §4.2), so they are elastic only
+ * (TLSPH takes J2 materials: the finite-strain return map of
+ * device/sph_plasticity.h with 002's hourglass switch).
  * Resolves the default xi_G: GNOG 4.0 elastic / 0.2 plastic (the reference
  * code's values), GNOG-A 2.0 for every material (003 §4.3). */
 static sph_status check_material_model(loader *L, const config_setting_t *root) {
@@ -1358,18 +1379,19 @@ static sph_status check_material_model(loader *L, const config_setting_t *root) 
             plastic_material = m->name;
         }
     }
-    if (plastic && (FORM_IS_ENOG(sc->formulation) || sc->formulation == SPH_FORMULATION_TLSPH))
+    if (plastic && FORM_IS_ENOG(sc->formulation))
         return fail_at(L, form_at, NULL,
                        "formulation \"%s\" is for elastic materials, but material '%s' is "
-                       "plastic (it has a yield_stress); use \"gnog-a\", \"gnog\", \"og\" or "
-                       "\"oas\"",
+                       "plastic (it has a yield_stress); use \"gnog-a\", \"gnog\", \"og\", "
+                       "\"oas\" or \"tlsph\"",
                        sph_formulation_name(sc->formulation), plastic_material);
     if (isnan(sc->xi_g))
         sc->xi_g = sc->formulation == SPH_FORMULATION_GNOG ? (plastic ? 0.2 : 4.0) : 2.0;
     return SPH_OK;
 }
 
-/* monitor = { zigzag_threshold; min_distance_ratio; action; } */
+/* monitor = { zigzag_threshold; min_distance_ratio; energy_growth;
+ *             speed_limit; domain_margin; domain = { lower; upper; }; action; } */
 static sph_status parse_monitor(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g;
@@ -1382,10 +1404,39 @@ static sph_status parse_monitor(loader *L, const config_setting_t *root) {
     sc->monitor_zigzag = zigzag_default;
     sc->monitor_min_distance = 0.5;
     sc->monitor_action = SPH_MONITOR_STOP;
+    sc->monitor_energy_growth = 0.5;
+    sc->monitor_speed_limit = 10.0;
+    sc->monitor_domain_margin = 1.0;
+    sc->monitor_has_domain = false;
     if (st || !g) return st;
     int action = 0;
-    if ((st = check_keys(L, g, KEYS("zigzag_threshold", "min_distance_ratio", "action"))) ||
-        (st = get_float(L, g, "zigzag_threshold", false, zigzag_default, 0, true, INFINITY, false,
+    const config_setting_t *dom = NULL;
+    if ((st = check_keys(L, g,
+                         KEYS("zigzag_threshold", "min_distance_ratio", "energy_growth",
+                              "speed_limit", "domain_margin", "domain", "action"))) ||
+        (st = get_float(L, g, "speed_limit", false, 10.0, 0, true, INFINITY, true,
+                        &sc->monitor_speed_limit)) ||
+        (st = get_float(L, g, "energy_growth", false, 0.5, 0, true, INFINITY, true,
+                        &sc->monitor_energy_growth)) ||
+        (st = get_float(L, g, "domain_margin", false, 1.0, 0, false, INFINITY, true,
+                        &sc->monitor_domain_margin)) ||
+        (st = get_group(L, g, "domain", false, &dom)))
+        return st;
+    if (dom) {
+        const config_setting_t *upper_at;
+        if ((st = check_keys(L, dom, KEYS("lower", "upper"))) ||
+            (st = get_vector(L, dom, "lower", true, sc->dim, sc->monitor_domain_lower, NULL)) ||
+            (st = get_vector(L, dom, "upper", true, sc->dim, sc->monitor_domain_upper, &upper_at)))
+            return st;
+        for (int a = 0; a < sc->dim; a++)
+            if (!(sc->monitor_domain_upper[a] > sc->monitor_domain_lower[a]))
+                return fail_at(L, upper_at, NULL,
+                               "the domain must have upper > lower along every axis; along %s "
+                               "upper = %g, lower = %g",
+                               AXES[a], sc->monitor_domain_upper[a], sc->monitor_domain_lower[a]);
+        sc->monitor_has_domain = true;
+    }
+    if ((st = get_float(L, g, "zigzag_threshold", false, zigzag_default, 0, true, INFINITY, false,
                         &sc->monitor_zigzag)) ||
         (st = get_float(L, g, "min_distance_ratio", false, 0.5, 0, false, 1, true,
                         &sc->monitor_min_distance)) ||

@@ -26,6 +26,7 @@
 #define SPH_SCENE_MAX_CONSTRAINTS 8
 #define SPH_SCENE_MAX_OBSERVERS   16
 #define SPH_SCENE_PATH_LEN        1024
+#define SPH_SCENE_WHERE_LEN       (SPH_SCENE_PATH_LEN + 160)
 
 /* values equal the device's FORMULATION_* */
 typedef enum {
@@ -105,11 +106,16 @@ typedef struct {
     sph_velocity_field velocity;
     int nconstraints;
     sph_constraint constraints[SPH_SCENE_MAX_CONSTRAINTS];
+    /* where it is defined, for messages about it after loading (overlaps,
+     * no particles): "<file>:<line>: bodies.<name>" or "--set ...: ..." */
+    char where[SPH_SCENE_WHERE_LEN];
 } sph_body;
 
 typedef struct {
     char name[SPH_NAME_LEN];
     double position[3];
+    /* "<file>:<line>: observers.<name>.position" (see sph_body.where) */
+    char where[SPH_SCENE_WHERE_LEN];
 } sph_observer;
 
 typedef enum {
@@ -178,8 +184,15 @@ typedef struct {
     bool output_field[SPH_OUT_COUNT];
 
     /* instability monitor (device/monitor.cl), checked at output times */
-    double monitor_zigzag;       /* zigzag indicator threshold */
-    double monitor_min_distance; /* pair distance / dp threshold */
+    double monitor_zigzag;        /* zigzag indicator threshold */
+    double monitor_min_distance;  /* pair distance / dp threshold */
+    double monitor_energy_growth; /* trip when E(t) > (1 + this) E(0) */
+    double monitor_speed_limit;   /* trip when max |v| > this (c0 + initial max |v|) */
+    /* particles must stay inside [lower, upper]: given, or the initial
+     * bounding box grown by domain_margin times its largest extent */
+    double monitor_domain_margin;
+    bool monitor_has_domain;
+    double monitor_domain_lower[3], monitor_domain_upper[3];
     sph_monitor_action monitor_action;
 
     /* analysis: first oscillation period of an observer's coordinate */

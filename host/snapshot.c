@@ -55,10 +55,14 @@ static sph_status write_series(const sph_snapshots *s, int count, sph_error *err
                 k + 1 < count ? "," : "");
     }
     fprintf(f, "  ]\n}\n");
-    const int bad = ferror(f);
+    const bool bad = ferror(f) || fflush(f) != 0 || sph_test_disk_full(partial);
+    if (sph_test_disk_full(partial)) errno = ENOSPC;
+    const int write_errno = errno;
     if (fclose(f) != 0 || bad) {
+        const sph_status st = sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial,
+                                       strerror(bad ? write_errno : errno));
         unlink(partial);
-        return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", partial, strerror(errno));
+        return st;
     }
     if (rename(partial, path) != 0)
         return sph_fail(err, SPH_ERR_RUNTIME, "cannot rename %s: %s", partial, strerror(errno));

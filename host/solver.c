@@ -1,5 +1,6 @@
 #include "solver.h"
 
+#include "instability.h"
 #include "progress.h"
 #include "sph_constants.h"
 
@@ -21,22 +22,33 @@ typedef struct {
     double *obs;
 } sample_scratch;
 
-/* Diagnostics and observers at the current time: one row of the series. */
+/* What the monitor reduction says besides the time-series columns. */
+typedef struct {
+    bool nonfinite;            /* a NaN/Inf in the energies or a position/velocity */
+    double lower[3], upper[3]; /* bounding box of the particles */
+} monitor_state;
+
+/* Diagnostics, monitor and observers at the current time: one row of the
+ * series (none when the state is no longer finite: the caller trips). */
 static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, sph_timeseries *ts,
-                         sph_error *err) {
+                         monitor_state *ms, sph_error *err) {
     sph_backend *be = a->backend;
+    const int dim = a->scene->dim;
     sph_diagnostics d;
     sph_status st = be->ops->diagnostics(be, &d, err);
     if (st) return st;
-    if (!isfinite(d.kinetic) || !isfinite(d.strain))
-        return sph_fail(err, SPH_ERR_RUNTIME,
-                        "the energy became non-finite at t = %.6g s: the simulation is unstable",
-                        t);
-    double mon[SPH_MONITOR_NCOMP];
+    double mon[SPH_MONITOR_NCOMP_MAX];
     st = be->ops->monitor(be, mon, err);
     if (st) return st;
-    d.min_distance_ratio = -mon[0];
-    d.zigzag = mon[2] > 0 ? mon[1] / mon[2] : 0.0;
+    for (int k = 0; k < 3; ++k) {
+        ms->upper[k] = k < dim ? mon[SPH_MONITOR_MAX_X + k] : 0.0;
+        ms->lower[k] = k < dim ? -mon[SPH_MONITOR_MAX_X + dim + k] : 0.0;
+    }
+    ms->nonfinite = !isfinite(d.kinetic) || !isfinite(d.strain) || mon[SPH_MONITOR_NONFINITE] > 0;
+    if (ms->nonfinite) return SPH_OK;
+    d.min_distance_ratio = -mon[SPH_MONITOR_NEG_MIN_DIST];
+    d.zigzag =
+        mon[SPH_MONITOR_GRADV] > 0 ? mon[SPH_MONITOR_MISMATCH] / mon[SPH_MONITOR_GRADV] : 0.0;
     if (a->observers->count > 0) {
         st = be->ops->download(be, FIELD_POS, s->pos, err);
         if (!st) st = be->ops->download(be, FIELD_ID, s->id, err);
@@ -48,41 +60,119 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
     return st;
 }
 
-/* The instability monitor at an output time (device/monitor.cl): the first
- * trip is recorded; with action "stop" the run ends with SPH_UNSTABLE. */
-static sph_status check_stability(const sph_solver_args *a, const sph_timeseries *ts,
-                                  sph_run_stats *stats, sph_error *err) {
+/* Record a trip of the monitor at time t: find the particle behind it, and
+ * either stop the run (SPH_UNSTABLE; non-finite values always stop) or warn
+ * once and go on.  Only the first trip of a run is recorded. */
+static sph_status trip(const sph_solver_args *a, sph_trip_kind kind, double t, const char *what,
+                       double value, double threshold, const double domain[2][3],
+                       sph_run_stats *stats, sph_error *err) {
     const sph_scene *sc = a->scene;
-    if (sc->monitor_action == SPH_MONITOR_OFF || ts->count == 0 || !isnan(stats->instability_time))
-        return SPH_OK;
-    const sph_diagnostics *d = &ts->diag[ts->count - 1];
-    const double t = ts->time[ts->count - 1];
-    const char *what = NULL;
-    double value = 0, threshold = 0;
-    if (d->zigzag > sc->monitor_zigzag) {
-        what = "zigzag indicator";
-        value = d->zigzag;
-        threshold = sc->monitor_zigzag;
-    } else if (d->min_distance_ratio < sc->monitor_min_distance) {
-        what = "minimum pair distance / dp";
-        value = d->min_distance_ratio;
-        threshold = sc->monitor_min_distance;
-    }
-    if (!what) return SPH_OK;
+    sph_trip_location where;
+    sph_status st =
+        sph_instability_locate(a->backend, a->prm, kind, domain[0], domain[1], &where, err);
+    if (st) return st;
+    const bool stop = kind == SPH_TRIP_NONFINITE || sc->monitor_action == SPH_MONITOR_STOP;
     stats->instability_time = t;
     stats->instability_value = value;
     stats->instability_threshold = threshold;
+    stats->instability_particle = where.particle;
+    stats->instability_body = where.body;
+    memcpy(stats->instability_position, where.position, sizeof where.position);
+    stats->instability_stopped = stop;
+    snprintf(stats->instability_field, sizeof stats->instability_field, "%s", where.field);
     snprintf(stats->instability_quantity, sizeof stats->instability_quantity, "%s", what);
-    const char *cmp = value > threshold ? ">" : "<";
-    if (sc->monitor_action == SPH_MONITOR_STOP)
+
+    char quantity[160], place[256] = "";
+    if (kind == SPH_TRIP_NONFINITE)
+        sph_format(quantity, sizeof quantity, "%s%s%s",
+                   where.field[0] ? "non-finite values (NaN or Inf) in '"
+                                  : "the energies overflowed (every field is finite), fastest",
+                   where.field, where.field[0] ? "'" : "");
+    else
+        sph_format(quantity, sizeof quantity, "%s %.3g %s %g", what, value,
+                   value > threshold ? ">" : "<", threshold);
+    if (where.particle >= 0) {
+        const double *x = where.position;
+        if (sc->dim == 2)
+            sph_format(place, sizeof place, " at particle %ld of body '%s' (x = %.6g, %.6g)",
+                       where.particle, sc->bodies[where.body].name, x[0], x[1]);
+        else
+            sph_format(place, sizeof place, " at particle %ld of body '%s' (x = %.6g, %.6g, %.6g)",
+                       where.particle, sc->bodies[where.body].name, x[0], x[1], x[2]);
+    }
+    if (stop)
         return sph_fail(err, SPH_UNSTABLE,
-                        "instability at t = %.6g s: %s %.3g %s %g (hourglass/zigzag or "
-                        "clustering; monitor.action = \"stop\", results so far are kept)",
-                        t, what, value, cmp, threshold);
+                        "instability at t = %.6g s: %s%s; the run stopped there (%s), results "
+                        "up to it are kept",
+                        t, quantity, place,
+                        kind == SPH_TRIP_NONFINITE ? "a non-finite state always stops a run"
+                                                   : "monitor.action = \"stop\"");
     if (!a->quiet)
-        fprintf(stderr, "sphsolid: warning: instability at t = %.6g s: %s %.3g %s %g\n", t, what,
-                value, cmp, threshold);
+        fprintf(stderr, "sphsolid: warning: instability at t = %.6g s: %s%s\n", t, quantity, place);
     return SPH_OK;
+}
+
+/* The instability monitor at an output time (device/monitor.cl,
+ * docs/scene-format.md "monitor"): non-finite state, zigzag indicator,
+ * clustering, energy growth, particles outside the domain; the first trip
+ * is recorded. */
+static sph_status check_stability(const sph_solver_args *a, const sph_timeseries *ts,
+                                  const monitor_state *ms, double t, const double domain[2][3],
+                                  sph_run_stats *stats, sph_error *err) {
+    const sph_scene *sc = a->scene;
+    if (ms->nonfinite)
+        return trip(a, SPH_TRIP_NONFINITE, t, "non-finite state", NAN, NAN, domain, stats, err);
+    if (sc->monitor_action == SPH_MONITOR_OFF || ts->count == 0 || !isnan(stats->instability_time))
+        return SPH_OK;
+    const sph_diagnostics *d = &ts->diag[ts->count - 1];
+    if (d->zigzag > sc->monitor_zigzag)
+        return trip(a, SPH_TRIP_ZIGZAG, t, "zigzag indicator", d->zigzag, sc->monitor_zigzag,
+                    domain, stats, err);
+    if (d->min_distance_ratio < sc->monitor_min_distance)
+        return trip(a, SPH_TRIP_CLUSTERING, t, "minimum pair distance / dp", d->min_distance_ratio,
+                    sc->monitor_min_distance, domain, stats, err);
+    /* no external work is done on the scenes (no gravity or driven
+     * constraint yet), so the total energy can only fall */
+    const double e0 = ts->diag[0].kinetic + ts->diag[0].strain, e = d->kinetic + d->strain;
+    if (e0 > 0 && e > (1.0 + sc->monitor_energy_growth) * e0)
+        return trip(a, SPH_TRIP_ENERGY, t, "total energy / initial", e / e0,
+                    1.0 + sc->monitor_energy_growth, domain, stats, err);
+    double outside = -INFINITY;
+    for (int k = 0; k < sc->dim; ++k)
+        outside = fmax(outside, fmax(ms->upper[k] - domain[1][k], domain[0][k] - ms->lower[k]));
+    if (outside > 0)
+        return trip(a, SPH_TRIP_DOMAIN, t, "distance outside the monitored domain [m]", outside,
+                    0.0, domain, stats, err);
+    return SPH_OK;
+}
+
+/* The monitored domain: given in the scene, or the initial bounding box of
+ * the particles grown on every side by monitor.domain_margin times its
+ * largest extent. */
+static void monitor_domain(const sph_scene *sc, const sph_particles *p, double domain[2][3]) {
+    for (int k = 0; k < 3; ++k) {
+        domain[0][k] = k < sc->dim ? INFINITY : 0.0;
+        domain[1][k] = k < sc->dim ? -INFINITY : 0.0;
+    }
+    if (sc->monitor_has_domain) {
+        for (int k = 0; k < sc->dim; ++k) {
+            domain[0][k] = sc->monitor_domain_lower[k];
+            domain[1][k] = sc->monitor_domain_upper[k];
+        }
+        return;
+    }
+    for (int i = 0; i < p->n; ++i)
+        for (int k = 0; k < sc->dim; ++k) {
+            const double x = p->pos[(size_t)k * p->n + i];
+            domain[0][k] = fmin(domain[0][k], x);
+            domain[1][k] = fmax(domain[1][k], x);
+        }
+    double extent = 0.0;
+    for (int k = 0; k < sc->dim; ++k) extent = fmax(extent, domain[1][k] - domain[0][k]);
+    for (int k = 0; k < sc->dim; ++k) {
+        domain[0][k] -= sc->monitor_domain_margin * extent;
+        domain[1][k] += sc->monitor_domain_margin * extent;
+    }
 }
 
 /* Write a checkpoint of the state at this advection-step boundary. */
@@ -114,6 +204,10 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     sph_backend *be = a->backend;
     memset(stats, 0, sizeof *stats);
     stats->instability_time = NAN;
+    stats->instability_particle = -1;
+    double domain[2][3];
+    monitor_domain(sc, a->initial, domain);
+    monitor_state ms;
     const int n = be->n;
     sample_scratch s = {0};
     s.obs = calloc((size_t)(sc->nobservers * sc->dim + 1), sizeof(double));
@@ -151,6 +245,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         }
     }
     stats->reference_speed = u_ref;
+    const double speed_limit = sc->monitor_speed_limit * (c0 + u_ref);
 
     const double t0 = now_seconds();
     sph_rebuild_info info;
@@ -179,9 +274,9 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     } else {
         if (!st) st = be->ops->rebuild(be, &info, err);
         max_speed2 = info.max_speed2;
-        if (!st) st = sample(a, &s, 0.0, ts, err);
+        if (!st) st = sample(a, &s, 0.0, ts, &ms, err);
         if (!st && a->snapshots) st = sph_snapshots_write(a->snapshots, be, 0.0, 0, 0, err);
-        if (!st) st = check_stability(a, ts, stats, err);
+        if (!st) st = check_stability(a, ts, &ms, 0.0, domain, stats, err);
         output_index = 1;
     }
     const long start_steps = stats->acoustic_steps;
@@ -215,11 +310,29 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             if (st) break;
             t = at_output ? next_output : t + dt;
             stats->acoustic_steps++;
-            if (!isfinite(max_speed2)) {
-                st = sph_fail(err, SPH_ERR_RUNTIME,
-                              "velocities became non-finite at t = %.6g s after %ld acoustic "
-                              "steps: the simulation is unstable",
-                              t, stats->acoustic_steps);
+            /* checked at every substep, from its own reduction: a blow-up
+             * shrinks the acoustic step with the growing speed, so it might
+             * never reach the next output time and the monitor there */
+            if (!isfinite(max_speed2))
+                st = trip(a, SPH_TRIP_NONFINITE, t, "non-finite state", NAN, NAN, domain, stats,
+                          err);
+            else if (sc->monitor_action != SPH_MONITOR_OFF && isnan(stats->instability_time) &&
+                     sqrt(max_speed2) > speed_limit)
+                st = trip(a, SPH_TRIP_SPEED, t, "maximum speed / (c0 + initial speed)",
+                          sqrt(max_speed2) / (c0 + u_ref), sc->monitor_speed_limit, domain, stats,
+                          err);
+            if (st) {
+                /* stop here, with a snapshot of the state that went wrong */
+                if (st == SPH_UNSTABLE && a->snapshots && sc->snapshot_every > 0) {
+                    sph_error serr;
+                    const sph_status sst =
+                        sph_snapshots_write(a->snapshots, be, t, stats->acoustic_steps,
+                                            stats->advection_steps + 1, &serr);
+                    if (sst) {
+                        st = sst;
+                        *err = serr;
+                    }
+                }
                 break;
             }
             if (a->max_acoustic_steps > 0 &&
@@ -232,8 +345,8 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         if (st) break;
         stats->advection_steps++;
         if (at_output) {
-            st = sample(a, &s, t, ts, err);
-            if (!st) st = check_stability(a, ts, stats, err);
+            st = sample(a, &s, t, ts, &ms, err);
+            if (!st) st = check_stability(a, ts, &ms, t, domain, stats, err);
             const bool unstable = st == SPH_UNSTABLE;
             const bool last = t >= sc->end_time;
             /* a run stopped by the monitor ends with a snapshot of the state */

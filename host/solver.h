@@ -33,9 +33,16 @@ typedef struct {
     double particle_substeps_per_second;
     double end_time; /* simulated time reached */
     double reference_speed;
-    /* the first trip of the instability monitor (instability_time NAN: none) */
+    /* the first trip of the instability monitor (instability_time NAN: none):
+     * what, where (particle id, -1 if unknown; body index; position) and
+     * whether the run stopped there (exit status 4) */
     double instability_time, instability_value, instability_threshold;
-    char instability_quantity[32];
+    char instability_quantity[48];
+    char instability_field[32]; /* non-finite values: the first field holding one */
+    long instability_particle;
+    int instability_body;
+    double instability_position[3];
+    bool instability_stopped;
 } sph_run_stats;
 
 typedef struct {

@@ -210,7 +210,7 @@ static void test_cube(test_counts *c) {
     sph_scene_free(&s);
 }
 
-/* Two overlapping bodies: the first in scene order owns the shared points. */
+/* Two bodies that touch along x = 1 (overlapping bodies are an error). */
 static const char TWO[] =
     "dimension = 2;\n"
     "resolution = { dp = 0.1; };\n"
@@ -219,7 +219,7 @@ static const char TWO[] =
     "materials = { a = { density = 1000.0; youngs_modulus = 1.0e6; poisson_ratio = 0.3; };\n"
     "              b = { density = 2000.0; youngs_modulus = 1.0e6; poisson_ratio = 0.3; }; };\n"
     "shapes = { left = { type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n"
-    "           right = { type = \"box\"; lower = [0.5, 0.0]; upper = [1.5, 1.0]; };\n"
+    "           right = { type = \"box\"; lower = [1.0, 0.0]; upper = [1.5, 1.0]; };\n"
     "           edge = { type = \"box\"; lower = [1.4, 0.0]; upper = [1.5, 1.0]; }; };\n"
     "bodies = ( { name = \"l\"; material = \"a\"; shape = \"left\"; },\n"
     "           { name = \"r\"; material = \"b\"; shape = \"right\";\n"
@@ -238,7 +238,7 @@ static void test_two_bodies(test_counts *c) {
     st = sph_particles_generate(&s, &p, &err);
     CHECK(c, st == SPH_OK, "generate two bodies: %s", err.msg);
     if (st == SPH_OK) {
-        /* left: 10 x 10; right: 10 x 10 of which 5 x 10 belong to left */
+        /* left: 10 x 10; right: 5 x 10 */
         CHECK(c, p.n == 150 && p.body_count[0] == 100 && p.body_count[1] == 50,
               "n %d, counts %d %d", p.n, p.body_count[0], p.body_count[1]);
         /* one column of the right body is fixed; flags exist for every body */
@@ -281,10 +281,24 @@ static void test_two_bodies(test_counts *c) {
     }
     sph_scene_free(&s);
 
-    /* a body entirely covered by an earlier one has no particles */
+    /* a body inside an earlier one overlaps it: an error naming both */
     const char *hidden[] = {"bodies.r.shape=\"edge\"", "bodies.l.shape=right"};
     st = sph_scene_load(&s, path, hidden, 2, &err);
     CHECK(c, st == SPH_OK, "hidden: %s", err.msg);
+    if (st == SPH_OK) {
+        st = sph_particles_generate(&s, &p, &err);
+        CHECK(c,
+              st == SPH_ERR_INPUT && strstr(err.msg, ":11: bodies.r: overlaps body 'l'") &&
+                  strstr(err.msg, ":10: bodies.l"),
+              "overlapping bodies: status %d, '%s'", st, err.msg);
+        CHECK(c, p.pos == NULL && p.n == 0, "nothing allocated on failure");
+    }
+    sph_scene_free(&s);
+
+    /* a body thinner than the spacing has no particles */
+    const char *thin[] = {"shapes.right.upper=[1.04, 1.0]", "shapes.edge.lower=[1.0, 0.0]"};
+    st = sph_scene_load(&s, path, thin, 2, &err);
+    CHECK(c, st == SPH_OK, "thin: %s", err.msg);
     if (st == SPH_OK) {
         st = sph_particles_generate(&s, &p, &err);
         CHECK(c,

@@ -31,6 +31,17 @@
  *     symmetrised 002 error vector ((F_i + F_j) X_ij - 2 x_ij) / 2 relative
  *     to |X_ij|; after 200 steps it is at least HOURGLASS_RATIO times smaller
  *     with the default alpha than with alpha = 0.
+ *  5. 002's plasticity switch (E -> sigma_Y + kappa alpha in the hourglass
+ *     force of particles with alpha > 0) on the patch displaced by the
+ *     checkerboard, where deep particles feel the hourglass force alone:
+ *     exactly scaled by the switched modulus, unchanged without plastic
+ *     strain, momentum-conserving with mixed moduli (hourglass_switch);
+ *     plastic buffers and kernel arguments only in a plastic program.
+ *  6. Finite-strain J2 (sph_plasticity.h) on the plate at H/dp = 5: a low
+ *     yield stress yields the root, dissipates energy, keeps it bounded; a
+ *     yield stress above any reachable stress leaves no plastic state and
+ *     gives Hencky elasticity, within a derived second-order bound of the
+ *     SVK run (plastic_plate).
  */
 #include "backend_cpu.h"
 #include "test_support.h"
@@ -65,9 +76,12 @@ static void svk_pk1(const double f[4], double lambda, double mu, double p[4]) {
 
 /* A PATCH_N x PATCH_N lattice (dp = 0.01 m, the plate's material) whose
  * reference configuration is built at rest, then mapped by x = c + F0 (X - c)
- * (c the centre); returns the backend, the particles and the slot ids. */
+ * (c the centre); returns the backend, the particles and the slot ids.
+ * `plastic` = {yield stress, hardening modulus} makes the material J2-plastic
+ * (NULL: elastic). */
 static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const double f0[4],
-                                  sph_particles *p, double *prm, int32_t *id, sph_error *err) {
+                                  const double *plastic, sph_particles *p, double *prm, int32_t *id,
+                                  sph_error *err) {
     const int n = PATCH_N * PATCH_N, d = 2;
     const double dp = 0.01;
     if (test_particles_alloc(p, n, d, 1000.0, dp) != 0) {
@@ -85,6 +99,12 @@ static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const dou
     prm[PRM_FORMULATION] = FORMULATION_TLSPH;
     prm[PRM_LAMBDA] = prm[PRM_K] - prm[PRM_G]; /* the 2D in-plane model */
     prm[PRM_HOURGLASS] = alpha;
+    if (plastic) {
+        f.plastic = true;
+        prm[PRM_PLASTIC] = 1.0;
+        prm[PRM_YIELD] = plastic[0];
+        prm[PRM_HARDENING] = plastic[1];
+    }
     sph_backend *be = NULL;
     sph_rebuild_info info;
     sph_status st = test_backend(kind, &f, prm, n, &be, err);
@@ -117,7 +137,7 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
     double prm[PRM_COUNT];
     int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
     sph_error err = {0};
-    sph_backend *be = patch_backend(kind, alpha, f0, &p, prm, id, &err);
+    sph_backend *be = patch_backend(kind, alpha, f0, NULL, &p, prm, id, &err);
     CHECK(t, be != NULL, "patch backend: %s", err.msg);
     if (!be) {
         free(id);
@@ -267,7 +287,7 @@ static double checkerboard_patch(sph_backend_kind kind, double alpha, int steps,
     double prm[PRM_COUNT];
     int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
     double *vel = calloc((size_t)(2 * n), sizeof(double));
-    sph_backend *be = patch_backend(kind, alpha, f0, &p, prm, id, err);
+    sph_backend *be = patch_backend(kind, alpha, f0, NULL, &p, prm, id, err);
     sph_status st = be && vel ? SPH_OK : SPH_ERR_RUNTIME;
     for (int i = 0; !st && i < n; ++i)
         vel[n + i] = (id[i] % PATCH_N + id[i] / PATCH_N) % 2 ? -v0 : v0;
@@ -324,6 +344,334 @@ static plate_result run_plate(test_counts *t, sph_backend_kind kind, const char 
     return r;
 }
 
+/* ---- 5. the 002 plasticity switch on the patch ---------------------------- */
+
+/* the switch patch's material: yield stress and hardening modulus (Pa), and
+ * the plastic strain given to switched particles: their hourglass modulus
+ * sigma_Y + kappa alpha = 2e5 Pa, 1/10 of E = 2e6 Pa */
+#define SWITCH_YIELD     1e5
+#define SWITCH_HARDENING 1e6
+#define SWITCH_STRAIN    0.1
+
+static bool has_buffer(const sph_backend *be, const char *name) {
+    for (int k = 0; k < be->nbuffers; ++k)
+        if (strcmp(be->buffers[k].name, name) == 0) return true;
+    return false;
+}
+
+/* One substep at rest of the patch displaced by the checkerboard
+ * u_i = u0 (-1)^(ix + iy) e_y, u0 = 0.01 dp; with a plastic material
+ * (`plastic` != NULL) particles whose id is a multiple of `every` start with
+ * the plastic strain a0.  Accelerations and the distance from the patch edge
+ * (in dp) come back in id order; *compiled says whether the plastic buffers
+ * (and, on OpenCL, the kernel arguments) exist exactly when the material is
+ * plastic. */
+static sph_status switch_patch(sph_backend_kind kind, const double *plastic, double a0, int every,
+                               double *acc_by_id, double *edge_by_id, bool *compiled,
+                               sph_error *err) {
+    const int n = PATCH_N * PATCH_N;
+    const double f0[4] = {1.0, 0.0, 0.0, 1.0};
+    sph_particles p;
+    double prm[PRM_COUNT];
+    int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
+    double *x = malloc(sizeof(double) * (size_t)(2 * n));
+    double *acc = malloc(sizeof(double) * (size_t)(2 * n));
+    double *strain = malloc(sizeof(double) * (size_t)n);
+    sph_backend *be = NULL;
+    sph_status st = id && x && acc && strain ? SPH_OK : sph_fail(err, SPH_ERR_RUNTIME, "no memory");
+    if (!st) {
+        be = patch_backend(kind, HOURGLASS_ALPHA, f0, plastic, &p, prm, id, err);
+        if (!be) st = SPH_ERR_RUNTIME;
+    }
+    const double u0 = 0.01 * prm[PRM_DP];
+    for (int i = 0; !st && i < n; ++i) {
+        const int ix = id[i] % PATCH_N, iy = id[i] / PATCH_N;
+        x[i] = p.pos[id[i]];
+        x[n + i] = p.pos[n + id[i]] + ((ix + iy) % 2 ? -u0 : u0);
+        strain[i] = id[i] % every == 0 ? a0 : 0.0;
+        edge_by_id[id[i]] = fmin(fmin(ix, iy), fmin(PATCH_N - 1 - ix, PATCH_N - 1 - iy));
+    }
+    if (!st) {
+        const bool want = plastic != NULL;
+        *compiled =
+            has_buffer(be, "plastic_strain") == want && has_buffer(be, "plastic_cinv") == want;
+        if (kind == SPH_BACKEND_OPENCL)
+            *compiled = *compiled &&
+                        (strstr(be->program_kernels, " plastic_cinv") != NULL) == want &&
+                        (strstr(be->program_kernels, " plastic_strain") != NULL) == want;
+    }
+    double v2 = 0.0;
+    if (!st) st = be->ops->upload_field(be, FIELD_POS, x, err);
+    if (!st && plastic) st = be->ops->upload_field(be, FIELD_PLASTIC_STRAIN, strain, err);
+    if (!st) st = be->ops->substep(be, 1e-7, &v2, err);
+    if (!st) st = be->ops->download(be, FIELD_ACC_SHEAR, acc, err);
+    for (int i = 0; !st && i < n; ++i) {
+        acc_by_id[id[i]] = acc[i];
+        acc_by_id[n + id[i]] = acc[n + i];
+    }
+    if (be) {
+        sph_backend_destroy(be);
+        sph_particles_free(&p);
+    }
+    free(id);
+    free(x);
+    free(acc);
+    free(strain);
+    return st;
+}
+
+/* On the lattice interior the checkerboard leaves F = I (a zero-energy mode
+ * of the SPH deformation gradient, test 4), so P = 0 there and a particle
+ * whose whole support has F = I (>= 5.2 dp from the edge: "deep") feels
+ * the hourglass force alone, linear in the moduli of its pairs.  Hence, from
+ * 002's switch (E -> sigma_Y + kappa alpha where alpha > 0) and the
+ * per-side form of tl_step.cl:
+ *  - plastic material, no plastic strain: the elastic program's
+ *    accelerations (to 1e-12 of the largest deep one: the same force, summed
+ *    as E d_i + E d_j instead of E (d_i + d_j); measured 5e-13);
+ *  - every particle switched: the deep accelerations times
+ *    (sigma_Y + kappa alpha) / E = 0.1 exactly (to 1e-10 relative; measured
+ *    1.7e-11: the residual stress force of F = I to round-off);
+ *  - every third particle switched (pairs with E_i != E_j): total force
+ *    sum m a = 0 to 1e-12 of sum m |a| (each pair term anti-symmetric;
+ *    measured 2e-18 native, 8e-18 OpenCL). */
+static void hourglass_switch(test_counts *t, sph_backend_kind kind) {
+    const int n = PATCH_N * PATCH_N;
+    const double plastic[2] = {SWITCH_YIELD, SWITCH_HARDENING};
+    double *acc[4], *edge = malloc(sizeof(double) * (size_t)n);
+    for (int r = 0; r < 4; ++r) acc[r] = malloc(sizeof(double) * (size_t)(2 * n));
+    sph_error err = {0};
+    bool compiled[4] = {false, false, false, false};
+    sph_status st = switch_patch(kind, NULL, 0.0, 1, acc[0], edge, &compiled[0], &err);
+    if (!st) st = switch_patch(kind, plastic, 0.0, 1, acc[1], edge, &compiled[1], &err);
+    if (!st) st = switch_patch(kind, plastic, SWITCH_STRAIN, 1, acc[2], edge, &compiled[2], &err);
+    if (!st) st = switch_patch(kind, plastic, SWITCH_STRAIN, 3, acc[3], edge, &compiled[3], &err);
+    CHECK(t, st == SPH_OK, "switch patch runs: %s", err.msg);
+    CHECK(t, compiled[0] && compiled[1],
+          "plastic_strain, plastic_cinv buffers%s: elastic none (%d), plastic both (%d)",
+          kind == SPH_BACKEND_OPENCL ? " and kernel arguments" : "", (int)compiled[0],
+          (int)compiled[1]);
+    if (!st) {
+        double prm[PRM_COUNT];
+        test_params(prm, 2, 0.01, n);
+        const double k = prm[PRM_K], g = prm[PRM_G], youngs = 9 * k * g / (3 * k + g);
+        const double ratio = (SWITCH_YIELD + SWITCH_HARDENING * SWITCH_STRAIN) / youngs;
+        double a_deep = 0.0, d_unswitched = 0.0, d_switched = 0.0, sum[2] = {0, 0}, sum_abs = 0.0;
+        int deep = 0;
+        for (int i = 0; i < n; ++i) {
+            for (int c = 0; c < 2; ++c) {
+                sum[c] += acc[3][c * n + i];
+                sum_abs += fabs(acc[3][c * n + i]);
+            }
+            if (edge[i] < 5.2) continue;
+            ++deep;
+            for (int c = 0; c < 2; ++c) {
+                const double a = acc[0][c * n + i];
+                a_deep = fmax(a_deep, fabs(a));
+                d_unswitched = fmax(d_unswitched, fabs(acc[1][c * n + i] - a));
+                d_switched = fmax(d_switched, fabs(acc[2][c * n + i] - ratio * a));
+            }
+        }
+        const double drift = hypot(sum[0], sum[1]);
+        printf("switch patch (%s): %d deep particles, max |a| %.4g m/s^2; plastic, no strain: max "
+               "|a - a_elastic| %.3g; all switched: max |a - %.4f a_elastic| %.3g; every third "
+               "switched: |sum m a| %.3g of sum m |a| %.3g\n",
+               kind == SPH_BACKEND_CPU ? "cpu" : "opencl", deep, a_deep, d_unswitched, ratio,
+               d_switched, drift, sum_abs);
+        CHECK(t, deep == 8 * 8 && a_deep > 0, "deep particles %d, max |a| %.3g", deep, a_deep);
+        CHECK(t, d_unswitched <= 1e-12 * a_deep, "unswitched plastic = elastic: %.3g of %.3g",
+              d_unswitched, a_deep);
+        CHECK(t, d_switched <= 1e-10 * ratio * a_deep,
+              "switched: hourglass force x (sigma_Y + kappa alpha)/E: %.3g of %.3g", d_switched,
+              ratio * a_deep);
+        CHECK(t, sum_abs > 0 && drift <= 1e-12 * sum_abs, "mixed switch, momentum %.3g of %.3g",
+              drift, sum_abs);
+    }
+    for (int r = 0; r < 4; ++r) free(acc[r]);
+    free(edge);
+}
+
+/* ---- 6. the J2-plastic plate ----------------------------------------------- */
+
+/* The TLSPH plate at H/dp = 5 with v_f = 0.01 c0 (tip amplitude 0.027 m),
+ * elastic (yield NULL) or J2-plastic with that yield stress, to t_end. */
+static sph_status small_plate(sph_backend_kind kind, const char *yield, const char *t_end,
+                              sph_simulation *sim, sph_error *err) {
+    char yield_set[64], end_set[64];
+    snprintf(yield_set, sizeof yield_set, "materials.plate.yield_stress=%s", yield ? yield : "");
+    snprintf(end_set, sizeof end_set, "time.end=%s", t_end);
+    const char *overrides[] = {"method.formulation=tlsph",
+                               "method.rotation=none",
+                               "monitor.action=off",
+                               "resolution.ratio=5",
+                               "bodies.plate.initial_velocity.amplitude_c0=0.01",
+                               end_set,
+                               yield_set};
+    return test_run_case("oscillating_plate_2d", overrides, yield ? 7 : 6, kind, true, 0, sim, err);
+}
+
+/* E(t)/E(0): the largest over the run, and the last */
+static void energy_ratios(const sph_timeseries *ts, double *max_ratio, double *end_ratio) {
+    const double e0 = ts->diag[0].kinetic + ts->diag[0].strain;
+    *max_ratio = 0.0;
+    for (int k = 0; k < ts->count; ++k)
+        *max_ratio = fmax(*max_ratio, (ts->diag[k].kinetic + ts->diag[k].strain) / e0);
+    *end_ratio = (ts->diag[ts->count - 1].kinetic + ts->diag[ts->count - 1].strain) / e0;
+}
+
+/* Plastic strain and C_p^-1 - I of a finished run (id order); returns the
+ * number of particles with alpha > 0 and fills their largest alpha, the
+ * reference x of the yielded particles (min, max), and the count of particles
+ * whose C_p^-1 - I is non-zero exactly where alpha is. */
+typedef struct {
+    int yielded, consistent;
+    double alpha_max, x_min, x_max, cinv_max;
+    bool ok;
+} plastic_state_summary;
+
+static plastic_state_summary plastic_state(const sph_simulation *sim, sph_error *err) {
+    plastic_state_summary r = {.x_min = INFINITY, .x_max = -INFINITY};
+    const sph_backend *be = sim->backend;
+    const int n = be->n, nc = be->fields[FIELD_PLASTIC_CINV].components;
+    double *alpha = malloc(sizeof(double) * (size_t)n);
+    double *cinv = malloc(sizeof(double) * (size_t)(nc * n));
+    int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
+    sph_status st = alpha && cinv && id ? SPH_OK : sph_fail(err, SPH_ERR_RUNTIME, "no memory");
+    if (!st) st = be->ops->download((sph_backend *)be, FIELD_PLASTIC_STRAIN, alpha, err);
+    if (!st) st = be->ops->download((sph_backend *)be, FIELD_PLASTIC_CINV, cinv, err);
+    if (!st) st = be->ops->download((sph_backend *)be, FIELD_ID, id, err);
+    for (int i = 0; !st && i < n; ++i) {
+        double c = 0.0;
+        for (int k = 0; k < nc; ++k) c = fmax(c, fabs(cinv[k * n + i]));
+        r.cinv_max = fmax(r.cinv_max, c);
+        r.consistent += (alpha[i] > 0) == (c > 0);
+        if (alpha[i] > 0) {
+            const double x0 = sim->particles.pos[id[i]];
+            ++r.yielded;
+            r.alpha_max = fmax(r.alpha_max, alpha[i]);
+            r.x_min = fmin(r.x_min, x0);
+            r.x_max = fmax(r.x_max, x0);
+        }
+    }
+    r.ok = st == SPH_OK;
+    free(alpha);
+    free(cinv);
+    free(id);
+    return r;
+}
+
+/* The plate of test 2 at H/dp = 5 and a fifth of its amplitude (v_f =
+ * 0.01 c0, tip amplitude 0.027 m), 002's elastic-perfectly plastic model:
+ *  a. sigma_Y = 2e4 Pa, to t = 0.1 s (past the first maximum deflection at
+ *     ~0.07 s), both backends.  The elastic root stress is about E eps_max,
+ *     eps_max = (H/2) kappa_root = 0.024 (first-mode root curvature
+ *     kappa_root = 2 k^2 (sin kL + sinh kL) / |f(L)| = 88 /m per metre of tip
+ *     deflection, 003 eqs. 50-51), i.e. ~5e4 Pa, 2.4 sigma_Y: the root yields.
+ *     Where: the first-mode moment falls to 20 % of the root's at x = L/2 and
+ *     the root moment is capped near the plane-strain plastic moment, whose
+ *     elastic fibre stress is 1.5 x 2/sqrt3 sigma_Y = 1.73 sigma_Y, so
+ *     beyond L/2 the stress stays below 0.35 sigma_Y: every yielded particle
+ *     lies in x0 < L/2 = 0.1 m, and some at the root, x0 < 0.02 m.  The
+ *     switch (E -> sigma_Y in the hourglass force) is on for exactly the
+ *     yielded particles (alpha > 0; its effect: test 5), C_p^-1 - I is
+ *     non-zero exactly there.  Energy: without dissipation E(t)/E(0) stays
+ *     within 3 % (test 2; the strain-energy diagnostic is the small-strain
+ *     one), so E(0.1)/E(0) < 0.8 is plastic dissipation (measured 0.65) and
+ *     max E(t)/E(0) <= 1.03 says it stays bounded.
+ *  b. (native backend) sigma_Y = 1e8 Pa, to t = 0.15 s: yielding would need
+ *     |dev eps| = sqrt(2/3) sigma_Y / 2 mu ~ 57, so no particle yields, the
+ *     state stays exactly zero and the run is Hencky elastic.  Against the
+ *     elastic (SVK) run: the two laws differ at second order, tau_SVK -
+ *     tau_Hencky ~ (3 + lambda/mu) eps^2 2 mu (test_plasticity), even in the
+ *     strain, so in bending it adds no first-order moment and the tip
+ *     histories differ by at most (3 + lambda/mu) eps_max^2 of the amplitude
+ *     (0.4 %, 1.1e-4 m here; measured 1.8e-6 m), and both keep E(t)/E(0)
+ *     within 3 %. */
+static void plastic_plate(test_counts *t, sph_backend_kind kind) {
+    sph_simulation sim;
+    sph_error err = {0};
+    sph_status st = small_plate(kind, "2.0e4", "0.1", &sim, &err);
+    CHECK(t, st == SPH_OK, "plastic plate: %s", err.msg);
+    if (!st) {
+        const sph_backend *be = sim.backend;
+        CHECK(t,
+              sim.features.plastic && has_buffer(be, "plastic_strain") &&
+                  has_buffer(be, "plastic_cinv"),
+              "plastic TLSPH: feature set and buffers (plastic %d)", (int)sim.features.plastic);
+        if (kind == SPH_BACKEND_OPENCL)
+            CHECK(t,
+                  strstr(be->program_kernels, " plastic_cinv") != NULL &&
+                      strstr(be->build_options, "-DSPH_PLASTIC=1") != NULL,
+                  "plastic TLSPH program: %s", be->build_options);
+        double e_max, e_end;
+        energy_ratios(&sim.series, &e_max, &e_end);
+        const plastic_state_summary ps = plastic_state(&sim, &err);
+        printf("plastic plate (%s, sigma_Y 2e4 Pa, t = 0.1 s): %d particles yielded (switched), "
+               "max plastic strain %.4g, reference x in [%.4f, %.4f] m, max |C_p^-1 - I| %.4g; "
+               "E/E0 end %.4f, max %.4f; %ld steps, %.2f s\n",
+               be->kind_name, ps.yielded, ps.alpha_max, ps.x_min, ps.x_max, ps.cinv_max, e_end,
+               e_max, sim.stats.acoustic_steps, sim.stats.wall_seconds);
+        CHECK(t, ps.ok, "plastic state download: %s", err.msg);
+        CHECK(t, ps.yielded >= 10 && ps.alpha_max > 1e-3, "the root yields: %d, max %.3g",
+              ps.yielded, ps.alpha_max);
+        CHECK(t, ps.x_min < 0.02 && ps.x_max < 0.1, "yielded at x0 in [%.4f, %.4f]", ps.x_min,
+              ps.x_max);
+        CHECK(t, ps.consistent == be->n, "C_p^-1 - I non-zero exactly where alpha > 0 (%d of %d)",
+              ps.consistent, be->n);
+        CHECK(t, e_end < 0.8, "plastic dissipation: E(0.1)/E(0) %.4f", e_end);
+        CHECK(t, e_max <= 1.03, "energy bounded: max E(t)/E(0) %.4f", e_max);
+    }
+    sph_simulation_close(&sim);
+    if (kind != SPH_BACKEND_CPU) return; /* b: the same program as a; CI time */
+
+    sph_simulation el, hi;
+    sph_error err2 = {0};
+    st = small_plate(kind, NULL, "0.15", &el, &err);
+    const sph_status st2 = small_plate(kind, "1.0e8", "0.15", &hi, &err2);
+    CHECK(t, st == SPH_OK && st2 == SPH_OK, "elastic / high-yield plates: %s / %s", err.msg,
+          err2.msg);
+    if (!st && !st2) {
+        CHECK(t,
+              !has_buffer(el.backend, "plastic_cinv") && !has_buffer(el.backend, "plastic_strain"),
+              "elastic TLSPH allocates no plastic buffer");
+        const plastic_state_summary ps = plastic_state(&hi, &err);
+        const sph_timeseries *a = &el.series, *b = &hi.series;
+        double amp = 0.0, diff = 0.0;
+        const int count = a->count < b->count ? a->count : b->count;
+        for (int k = 0; k < count; ++k) {
+            const double ya = a->observers[2 * k + 1] - a->observers[1];
+            const double yb = b->observers[2 * k + 1] - b->observers[1];
+            amp = fmax(amp, fabs(ya));
+            diff = fmax(diff, fabs(ya - yb));
+        }
+        /* material and mode shape of the plate case: E 2e6 Pa, nu 0.3975,
+         * L = 0.2 m, H = 0.02 m, kL = 1.875 */
+        const double nu = 0.3975, lambda_over_mu = 2 * nu / (1 - 2 * nu);
+        const double kl = 1.875, kk = kl / 0.2;
+        const double fl = (sin(kl) + sinh(kl)) * (cos(kl) - cosh(kl)) -
+                          (cos(kl) + cosh(kl)) * (sin(kl) - sinh(kl));
+        const double eps_max = 0.01 * 2 * kk * kk * (sin(kl) + sinh(kl)) / fabs(fl) * amp;
+        const double bound = (3 + lambda_over_mu) * eps_max * eps_max * amp;
+        double ea_max, ea_end, eb_max, eb_end;
+        energy_ratios(a, &ea_max, &ea_end);
+        energy_ratios(b, &eb_max, &eb_end);
+        printf("plate to 0.15 s: sigma_Y 1e8: %d yielded, max |C_p^-1 - I| %.3g; tip amplitude "
+               "%.5f m, root strain %.4f; max |y_Hencky - y_SVK| %.3g m (bound %.3g); E/E0 end "
+               "SVK %.4f, Hencky %.4f; %.2f s + %.2f s\n",
+               ps.yielded, ps.cinv_max, amp, eps_max, diff, bound, ea_end, eb_end,
+               el.stats.wall_seconds, hi.stats.wall_seconds);
+        CHECK(t, ps.ok && ps.yielded == 0 && ps.cinv_max == 0.0,
+              "sigma_Y 1e8: no plastic state (%d yielded, |C_p^-1 - I| %.3g)", ps.yielded,
+              ps.cinv_max);
+        CHECK(t, count > 10 && diff <= bound, "Hencky vs SVK tip: %.3g > %.3g", diff, bound);
+        CHECK_RANGE(t, ea_end, 0.97, 1.03, "SVK E(0.15)/E(0)");
+        CHECK_RANGE(t, eb_end, 0.97, 1.03, "Hencky E(0.15)/E(0)");
+        CHECK(t, ea_max <= 1.03 && eb_max <= 1.03, "energies bounded: %.4f, %.4f", ea_max, eb_max);
+    }
+    sph_simulation_close(&el);
+    sph_simulation_close(&hi);
+}
+
 int main(int argc, char **argv) {
     test_counts t = {0};
     const sph_backend_kind kind = test_backend_kind(argc, argv);
@@ -341,6 +689,9 @@ int main(int argc, char **argv) {
     CHECK(&t, bare >= HOURGLASS_RATIO * controlled,
           "hourglass indicator alpha = 0: %.3e, alpha = %.2f: %.3e (ratio %.2f < %.1f)", bare,
           HOURGLASS_ALPHA, controlled, bare / controlled, HOURGLASS_RATIO);
+
+    hourglass_switch(&t, kind);
+    plastic_plate(&t, kind);
 
     const double t_theory = 0.25406; /* 004 eq. 33, nu = 0.3975 */
     const plate_result w = run_plate(&t, kind, "wendland-c2");

@@ -1,0 +1,647 @@
+#!/usr/bin/python3
+"""test_bad_input.py — every class of bad input, one row of a table each.
+
+A row says how the bad input is made (an edit of the oscillating plate's
+scene text, command-line arguments, environment, a process limit, a small
+or read-only filesystem), the exit status it must give and fragments its
+message must contain.  Conventions checked on every row:
+
+- a scene error (exit 2) names the file, the line and the full key path:
+  "bad.cfg:LINE: KEY: what is wrong" (a syntax error has no key yet:
+  "bad.cfg:LINE: syntax error"; a value from an override names the override
+  instead: "--set KEY=VALUE: KEY: ..."; a missing top-level key has no line,
+  docs/scene-format.md "Errors");
+- a runtime failure (exit 1) is one sentence on one line;
+- afterwards nothing under the row's directories looks like a complete
+  result: no summary.json, timeseries.csv, snapshots/*.hdf (only .partial)
+  or checkpoint.h5.
+
+Two controls follow the table: bodies that touch (without overlapping) run,
+and a run stopped by a full disk keeps its checkpoint and restarts from it to
+the uninterrupted run's results.
+
+Full disks are real where this process may mount a tmpfs (as root): a
+256 KiB tmpfs with a filler file that leaves the chosen room.  Where it may
+not, the same rows run through the fault injection SPHSOLID_TEST_DISK_FULL
+(host/hdf5_file.c), and the output says which path ran.
+"""
+import os
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphtest import BIN, PLATE, check, finish  # noqa: E402
+
+PLATE_TEXT = open(PLATE).read()
+FAST = ["--set", "resolution.ratio=4", "--set", "time.end=0.01"]
+SCENE = "bad.cfg"  # scenes are written into the row's directory under this name
+RESULTS = ("summary.json", "timeseries.csv", "checkpoint.h5")
+
+
+class Row:
+    """One bad input.  `edits` are (old, new) replacements of the plate's
+    scene text (or `text` is the whole scene); `args` follow
+    `run bad.cfg --backend cpu --quiet --out OUT` (or `argv` is the whole
+    command line); `marker` is the text whose line the message must name
+    ({line}), with `offset` added (`marker_b`, `offset_b`: {line_b}).
+    Fragments may use {file}, {line}, {line_b}, {out}, {dir} (the row's
+    directory).  `data_limit`: RLIMIT_DATA of the run, bytes; `fs`:
+    "below-file" (--out below a regular file), "read-only" (a read-only
+    tmpfs) or ("full", free bytes, the SPHSOLID_TEST_DISK_FULL fallback)."""
+
+    def __init__(self, what, code, fragments, edits=(), text=None, args=(), argv=None, env=None,
+                 marker=None, offset=0, marker_b=None, offset_b=0, data_limit=None, fs=None,
+                 located=None):
+        self.what, self.code, self.fragments = what, code, list(fragments)
+        self.edits, self.text, self.args, self.argv = list(edits), text, list(args), argv
+        self.env, self.marker, self.offset = env or {}, marker, offset
+        self.marker_b, self.offset_b = marker_b, offset_b
+        self.data_limit, self.fs = data_limit, fs
+        # scene rows (an edited scene, no argv of their own) must give
+        # "bad.cfg:LINE: KEY:" unless told otherwise
+        self.located = located if located is not None else (
+            code == 2 and argv is None and (bool(edits) or text is not None))
+
+
+def ed(old, new):
+    return (old, new)
+
+
+# ---------------------------------------------------------------- the table
+ROWS = [
+    # --- syntax
+    Row("syntax error", 2, ["{file}:{line}: syntax error"],
+        [ed("end = 1.0;", "end = = 1.0;")], marker="end = = 1.0"),
+    Row("syntax error: integer in an array of decimals", 2,
+        ["{file}:{line}: syntax error: mismatched element type in array", "as a decimal"],
+        [ed("upper = [0.2, 0.01]", "upper = [0.2, 0]")], marker="upper = [0.2, 0]"),
+    Row("syntax error: a malformed number", 2, ["{file}:{line}: syntax error"],
+        [ed("ratio = 10.0;", "ratio = 10..0;")], marker="ratio = 10..0"),
+    Row("syntax error: an unquoted string", 2, ["{file}:{line}: syntax error"],
+        [ed('kernel = "wendland-c2";', "kernel = wendland-c2;")], marker="kernel = wendland"),
+    Row("empty scene file", 2, ["{file}: dimension: missing required key"], text="",
+        located=False),
+    # --- unknown keys, with the nearest valid name
+    Row("unknown key: a typo in a material", 2,
+        ["{file}:{line}: materials.plate.youngs_modulous: unknown key 'youngs_modulous' "
+         "(did you mean 'youngs_modulus'?)"],
+        [ed("youngs_modulus = 2.0e6;", "youngs_modulous = 2.0e6;")], marker="youngs_modulous"),
+    Row("unknown key: top level", 2,
+        ["{file}:{line}: dimensoin: unknown key 'dimensoin' (did you mean 'dimension'?)"],
+        [ed("dimension = 2;", "dimensoin = 2;")], marker="dimensoin"),
+    Row("unknown key: time", 2,
+        ["{file}:{line}: time.cfl_acustic: unknown key 'cfl_acustic' "
+         "(did you mean 'cfl_acoustic'?)"],
+        [ed("cfl_acoustic = 0.4;", "cfl_acustic = 0.4;")], marker="cfl_acustic"),
+    Row("unknown key: a body", 2,
+        ["{file}:{line}: bodies.plate.materail: unknown key 'materail' (did you mean 'material'?)"],
+        [ed('material = "plate";', 'materail = "plate";')], marker="materail"),
+    Row("unknown key: nothing close, the valid keys listed", 2,
+        ["{file}:{line}: resolution.spacing: unknown key 'spacing' (valid keys here: dp, "
+         "reference_length, ratio)"],
+        [ed("ratio = 10.0;", "ratio = 10.0; spacing = 0.002;")], marker="spacing"),
+    # --- wrong types
+    Row("wrong type: a string for a number", 2,
+        ["{file}:{line}: materials.plate.density: expected a number, got a string"],
+        [ed("density = 1000.0;", 'density = "1000";')], marker='density = "1000"'),
+    Row("wrong type: a number for a string", 2,
+        ["{file}:{line}: method.formulation: expected a string, got an integer"],
+        [ed('formulation = "enog-a";', "formulation = 3;")], marker="formulation = 3"),
+    Row("wrong type: a decimal for an integer", 2,
+        ["{file}:{line}: dimension: expected an integer, got a number"],
+        [ed("dimension = 2;", "dimension = 2.0;")], marker="dimension = 2.0"),
+    Row("wrong type: a number for a group", 2,
+        ["{file}:{line}: resolution: expected a group {{ ... }}, got a number"],
+        [ed("resolution = {\n  reference_length = 0.02;   # H\n  ratio = 10.0;              # H / dp\n};",
+            "resolution = 0.002;")], marker="resolution = 0.002"),
+    Row("wrong type: an integer for a boolean", 2,
+        ["{file}:{line}: time.acceleration_criterion: expected a boolean (true or false), "
+         "got an integer"],
+        [ed('stepping = "dual";', 'stepping = "dual"; acceleration_criterion = 1;')],
+        marker="acceleration_criterion"),
+    Row("wrong type: a vector of the wrong length", 2,
+        ["{file}:{line}: observers.tip.position: expected a vector of 2 numbers, got 1 element"],
+        [ed("position = [0.2, 0.0]", "position = [0.2]")], marker="position = [0.2]"),
+    Row("wrong type: a string for a vector", 2,
+        ["{file}:{line}: shapes.beam.lower: expected a vector of 2 numbers [ ... ], got a string"],
+        [ed("lower = [-0.06, -0.01]; upper = [0.2, 0.01]", 'lower = "origin"; upper = [0.2, 0.01]')],
+        marker='lower = "origin"'),
+    # --- material ranges
+    Row("E < 0", 2, ["{file}:{line}: materials.plate.youngs_modulus: must be > 0, got -2e+06"],
+        [ed("youngs_modulus = 2.0e6;", "youngs_modulus = -2.0e6;")], marker="youngs_modulus"),
+    Row("E = 0", 2, ["{file}:{line}: materials.plate.youngs_modulus: must be > 0, got 0"],
+        [ed("youngs_modulus = 2.0e6;", "youngs_modulus = 0.0;")], marker="youngs_modulus"),
+    Row("nu < 0", 2,
+        ["{file}:{line}: materials.plate.poisson_ratio: must be in [0, 0.5), got -0.1"],
+        [ed("poisson_ratio = 0.3975;", "poisson_ratio = -0.1;")], marker="poisson_ratio"),
+    Row("nu = 0.5", 2,
+        ["{file}:{line}: materials.plate.poisson_ratio: must be in [0, 0.5), got 0.5"],
+        [ed("poisson_ratio = 0.3975;", "poisson_ratio = 0.5;")], marker="poisson_ratio"),
+    Row("nu > 0.5", 2,
+        ["{file}:{line}: materials.plate.poisson_ratio: must be in [0, 0.5), got 0.7"],
+        [ed("poisson_ratio = 0.3975;", "poisson_ratio = 0.7;")], marker="poisson_ratio"),
+    Row("density = 0", 2, ["{file}:{line}: materials.plate.density: must be > 0, got 0"],
+        [ed("density = 1000.0;", "density = 0.0;")], marker="density"),
+    Row("density < 0", 2, ["{file}:{line}: materials.plate.density: must be > 0, got -1000"],
+        [ed("density = 1000.0;", "density = -1000.0;")], marker="density"),
+    Row("yield stress <= 0", 2,
+        ["{file}:{line}: materials.plate.yield_stress: must be > 0, got 0"],
+        [ed("poisson_ratio = 0.3975;", "poisson_ratio = 0.3975; yield_stress = 0.0;")],
+        marker="yield_stress"),
+    # --- resolution
+    Row("dp < 0", 2, ["{file}:{line}: resolution.dp: must be > 0, got -0.002"],
+        [ed("reference_length = 0.02;   # H\n  ratio = 10.0;", "dp = -0.002;")],
+        marker="dp = -0.002;"),
+    Row("dp = 0", 2, ["{file}:{line}: resolution.dp: must be > 0, got 0"],
+        [ed("reference_length = 0.02;   # H\n  ratio = 10.0;", "dp = 0.0;")],
+        marker="dp = 0.0;"),
+    Row("resolution ratio = 0", 2, ["{file}:{line}: resolution.ratio: must be > 0, got 0"],
+        [ed("ratio = 10.0;", "ratio = 0.0;")], marker="ratio = 0.0"),
+    Row("resolution ratio < 0", 2, ["{file}:{line}: resolution.ratio: must be > 0, got -10"],
+        [ed("ratio = 10.0;", "ratio = -10.0;")], marker="ratio = -10.0"),
+    Row("reference length = 0", 2,
+        ["{file}:{line}: resolution.reference_length: must be > 0, got 0"],
+        [ed("reference_length = 0.02;", "reference_length = 0.0;")], marker="reference_length"),
+    Row("both dp and ratio", 2,
+        ["{file}:{line}: resolution: give either dp or reference_length and ratio"],
+        [ed("ratio = 10.0;", "ratio = 10.0; dp = 0.002;")], marker="resolution = {"),
+    Row("neither dp nor ratio", 2,
+        ["{file}:{line}: resolution: missing required key: dp, or reference_length and ratio"],
+        [ed("reference_length = 0.02;   # H\n  ratio = 10.0;", "")], marker="resolution = {"),
+    Row("smoothing ratio out of range", 2,
+        ["{file}:{line}: method.smoothing_ratio: must be in [1, 2], got 3"],
+        [ed("smoothing_ratio = 1.3;", "smoothing_ratio = 3.0;")], marker="smoothing_ratio"),
+    # --- time
+    Row("time.end = 0", 2, ["{file}:{line}: time.end: must be > 0, got 0"],
+        [ed("end = 1.0;", "end = 0.0;")], marker="end = 0.0"),
+    Row("time.end < 0", 2, ["{file}:{line}: time.end: must be > 0, got -1"],
+        [ed("end = 1.0;", "end = -1.0;")], marker="end = -1.0"),
+    Row("output_interval = 0", 2, ["{file}:{line}: time.output_interval: must be > 0, got 0"],
+        [ed("output_interval = 0.01;", "output_interval = 0.0;")], marker="output_interval"),
+    Row("output_interval < 0", 2,
+        ["{file}:{line}: time.output_interval: must be > 0, got -0.01"],
+        [ed("output_interval = 0.01;", "output_interval = -0.01;")], marker="output_interval"),
+    Row("output_interval > end", 2,
+        ["{file}:{line}: time.output_interval: must not exceed time.end (1), got 2"],
+        [ed("output_interval = 0.01;", "output_interval = 2.0;")], marker="output_interval"),
+    Row("cfl out of range", 2, ["{file}:{line}: time.cfl_acoustic: must be in (0, 1], got 1.5"],
+        [ed("cfl_acoustic = 0.4;", "cfl_acoustic = 1.5;")], marker="cfl_acoustic"),
+    # --- shapes
+    Row("box upper < lower", 2,
+        ["{file}:{line}: shapes.beam.upper: must exceed lower in every component (padding "
+         "included), got upper.x = -0.1 <= lower.x = -0.06"],
+        [ed("upper = [0.2, 0.01]", "upper = [-0.1, 0.01]")], marker="upper = [-0.1, 0.01]"),
+    Row("box of zero size (upper = lower)", 2,
+        ["{file}:{line}: shapes.beam.upper: must exceed lower",
+         "upper.y = -0.01 <= lower.y = -0.01"],
+        [ed("upper = [0.2, 0.01]", "upper = [0.2, -0.01]")], marker="upper = [0.2, -0.01]"),
+    Row("negative padding", 2,
+        ["{file}:{line}: shapes.base.lower_pad_dp.[0]: padding must be >= 0, got -4"],
+        [ed("lower_pad_dp = [4.0, 4.0]", "lower_pad_dp = [-4.0, 4.0]")], marker="lower_pad_dp"),
+    Row("unknown shape type", 2,
+        ['{file}:{line}: shapes.plate.type: must be one of "box", "union", "difference", '
+         'got "unoin"'],
+        [ed('plate = { type = "union";', 'plate = { type = "unoin";')], marker='"unoin"'),
+    Row("unknown shape name in a union", 2,
+        ["{file}:{line}: shapes.plate.parts.[1]: unknown shape 'bsae' (did you mean 'base'?)"],
+        [ed('parts = ["beam", "base"]', 'parts = ["beam", "bsae"]')], marker='"bsae"'),
+    Row("a shape that contains itself", 2,
+        ["{file}:{line}: shapes.plate.parts: shapes refer to each other in a cycle"],
+        [ed('parts = ["beam", "base"]', 'parts = ["beam", "plate"]')], marker='"plate"]'),
+    # --- names
+    Row("unknown material name", 2,
+        ["{file}:{line}: bodies.plate.material: unknown material 'plat' (did you mean 'plate'?)"],
+        [ed('material = "plate";', 'material = "plat";')], marker='material = "plat"'),
+    Row("unknown material name, nothing close", 2,
+        ["{file}:{line}: bodies.plate.material: unknown material 'steel' "
+         "(defined materials: plate)"],
+        [ed('material = "plate";', 'material = "steel";')], marker='material = "steel"'),
+    Row("unknown shape name of a body", 2,
+        ["{file}:{line}: bodies.plate.shape: unknown shape 'plates' (did you mean 'plate'?)"],
+        [ed('shape = "plate";', 'shape = "plates";')], marker='shape = "plates"'),
+    Row("unknown constraint region", 2,
+        ["{file}:{line}: bodies.plate.constraints.[0].region: unknown shape 'clmap' "
+         "(did you mean 'clamp'?)"],
+        [ed('region = "clamp"', 'region = "clmap"')], marker="clmap"),
+    Row("unknown formulation", 2,
+        ['{file}:{line}: method.formulation: must be one of "enog", "enog-a"', 'got "enog-b"'],
+        [ed('formulation = "enog-a";', 'formulation = "enog-b";')], marker='"enog-b"'),
+    Row("unknown kernel", 2,
+        ['{file}:{line}: method.kernel: must be one of "wendland-c2"', 'got "wendland"'],
+        [ed('kernel = "wendland-c2";', 'kernel = "wendland";')], marker='"wendland"'),
+    Row("unknown observer in the analysis", 2,
+        ["{file}:{line}: analysis.period.observer: unknown observer 'top' (did you mean 'tip'?)"],
+        [ed('observer = "tip"', 'observer = "top"')], marker='"top"'),
+    Row("duplicate body name", 2,
+        ["{file}:{line}: bodies.[1].name: duplicate body name 'plate' (bodies.[0] has it too)"],
+        [ed('    constraints = ( { type = "fixed"; region = "clamp"; } );\n  }\n',
+            '    constraints = ( { type = "fixed"; region = "clamp"; } );\n  },\n'
+            '  { name = "plate"; material = "plate"; shape = "beam"; }\n')],
+        marker='{ name = "plate"; material'),
+    Row("a formulation that does not fit the material", 2,
+        ['{file}:{line}: method.formulation: formulation "enog-a" is for elastic materials'],
+        [ed("poisson_ratio = 0.3975;", "poisson_ratio = 0.3975; yield_stress = 1.0e5;")],
+        marker="formulation ="),
+    # --- missing required keys
+    Row("missing required key: a material's density", 2,
+        ["{file}:{line}: materials.plate.density: missing required key"],
+        [ed("density = 1000.0; ", "")], marker="plate = { youngs_modulus"),
+    Row("missing required key: a body's shape", 2,
+        ["{file}:{line}: bodies.plate.shape: missing required key"],
+        [ed('    shape = "plate";\n', "")], marker='name = "plate";', offset=-1),
+    Row("missing required key: time.end", 2, ["{file}:{line}: time.end: missing required key"],
+        [ed("  end = 1.0;\n", "")], marker="time = {"),
+    Row("missing required key: method.formulation", 2,
+        ["{file}:{line}: method.formulation: missing required key"],
+        [ed('  formulation = "enog-a";    # "enog" | "enog-a"\n', "")], marker="method = {"),
+    Row("missing required top-level key (no line to name)", 2,
+        ["{file}: dimension: missing required key"], [ed("dimension = 2;", "")], located=False),
+    # --- geometry checked when the particles are placed
+    Row("observer outside every body, inside the domain", 2,
+        ["{file}:{line}: observers.tip.position: (0.1, 0.028) is outside every body",
+         "place the observer inside a body"],
+        [ed("position = [0.2, 0.0]", "position = [0.1, 0.028]")], marker="position = [0.1"),
+    Row("observer outside the domain", 2,
+        ["{file}:{line}: observers.tip.position: (5, 5) is outside every body"],
+        [ed("position = [0.2, 0.0]", "position = [5.0, 5.0]")], marker="position = [5.0"),
+    Row("overlapping bodies", 2,
+        ["{file}:{line}: bodies.plate: overlaps body 'b' ({file}:{line_b}: bodies.b)",
+         "shape 'plate' and shape 'base' both contain the point",
+         "bodies may touch but must not overlap"],
+        [ed("bodies = (\n  {\n",
+            'bodies = (\n  { name = "b"; material = "plate"; shape = "base"; },\n  {\n')],
+        marker='{ name = "b"', offset=1, marker_b='{ name = "b"'),
+    Row("overlapping bodies: one inside the other", 2,
+        ["{file}:{line}: bodies.inner: overlaps body 'plate' ({file}:{line_b}: bodies.plate)",
+         "shape 'beam' and shape 'plate' both contain the point"],
+        [ed('    constraints = ( { type = "fixed"; region = "clamp"; } );\n  }\n',
+            '    constraints = ( { type = "fixed"; region = "clamp"; } );\n  },\n'
+            '  { name = "inner"; material = "plate"; shape = "beam"; }\n')],
+        marker='{ name = "inner"', marker_b="bodies = (", offset_b=1),
+    Row("a body without particles (thinner than dp)", 2,
+        ["{file}:{line}: bodies.sliver: the body has no particles"],
+        [ed("  clamp = {", '  sliver = { type = "box"; lower = [0.5, 0.0]; upper = [0.5001, 0.01]; };'
+            "\n  clamp = {"),
+         ed('    constraints = ( { type = "fixed"; region = "clamp"; } );\n  }\n',
+            '    constraints = ( { type = "fixed"; region = "clamp"; } );\n  },\n'
+            '  { name = "sliver"; material = "plate"; shape = "sliver"; }\n')],
+        marker='{ name = "sliver"'),
+    # --- overrides: the message names the override
+    Row("--set: a value out of range", 2,
+        ["--set materials.plate.poisson_ratio=0.7: materials.plate.poisson_ratio: "
+         "must be in [0, 0.5), got 0.7"],
+        argv=["run", PLATE, "--quiet", "--set", "materials.plate.poisson_ratio=0.7"]),
+    Row("--set: a string for a number", 2,
+        ["--set time.end=abc: time.end: expected a number, got a string"],
+        argv=["run", PLATE, "--quiet", "--set", "time.end=abc"]),
+    Row("--set: an unknown key", 2,
+        ["--set time.ende=1: time.ende: unknown key 'ende' (did you mean 'end'?)"],
+        argv=["run", PLATE, "--quiet", "--set", "time.ende=1"]),
+    Row("--set: a missing parent", 2,
+        ["--set solver.threads=4: solver: no such setting in the scene"],
+        argv=["run", PLATE, "--quiet", "--set", "solver.threads=4"]),
+    Row("--set: no '='", 2, ["--set time.end: expected key=value"],
+        argv=["run", PLATE, "--quiet", "--set", "time.end"]),
+    Row("--set: empty key", 2, ["--set =1: expected key=value, the key is empty"],
+        argv=["run", PLATE, "--quiet", "--set", "=1"]),
+    Row("--set: empty path component", 2, ["--set time..end=1: the key has an empty component"],
+        argv=["run", PLATE, "--quiet", "--set", "time..end=1"]),
+    Row("--set: a value that does not parse", 2,
+        ["--set gravity=[0.0, : cannot parse the value"],
+        argv=["run", PLATE, "--quiet", "--set", "gravity=[0.0, "]),
+    Row("--set: an unknown output field", 2,
+        ["output.fields.[1]: unknown output field 'presure' (did you mean 'pressure'?)"],
+        argv=["run", PLATE, "--quiet", "--set", 'output.fields=["velocity", "presure"]']),
+    Row("--set: an observer moved outside every body", 2,
+        ["--set observers.tip.position=[0.5, 0.3]: observers.tip.position: (0.5, 0.3) is "
+         "outside every body"],
+        argv=["run", PLATE, "--quiet", "--set", "observers.tip.position=[0.5, 0.3]"]),
+    # --- command line (exit 2: bad input)
+    Row("unknown flag", 2, ["unknown option --frobnicate"],
+        argv=["run", PLATE, "--quiet", "--frobnicate"]),
+    Row("flag missing its value", 2, ["--out needs a value"], argv=["run", PLATE, "--out"]),
+    Row("--set missing its value", 2, ["--set needs a value"], argv=["run", PLATE, "--set"]),
+    Row("bad numeric value: not a number", 2,
+        ["--checkpoint-every abc: expected a positive number of seconds"],
+        argv=["run", PLATE, "--checkpoint-every", "abc"]),
+    Row("bad numeric value: negative", 2,
+        ["--checkpoint-wall -5: expected a positive number of seconds"],
+        argv=["run", PLATE, "--checkpoint-wall", "-5"]),
+    Row("bad numeric value: zero", 2,
+        ["--progress-interval 0: expected a positive number of seconds"],
+        argv=["run", PLATE, "--progress-interval", "0"]),
+    Row("bad numeric value: device", 2, ["--device x: expected a device number"],
+        argv=["run", PLATE, "--device", "x"]),
+    Row("bad backend name", 2, ["--backend gpu: expected opencl or cpu"],
+        argv=["run", PLATE, "--backend", "gpu"]),
+    Row("bad precision", 2, ["--precision half: expected double or single"],
+        argv=["run", PLATE, "--precision", "half"]),
+    Row("--device with --backend cpu", 2, ["--device selects an OpenCL device"],
+        argv=["run", PLATE, "--backend", "cpu", "--device", "0"]),
+    Row("missing scene file", 2, ["missing.cfg: cannot read scene file: No such file or directory"],
+        argv=["run", "missing.cfg", "--quiet"]),
+    Row("scene file is a directory", 2, ["{dir}: cannot read scene file: Is a directory"],
+        argv=["run", "{dir}", "--quiet"]),
+    Row("no scene file", 2, ["run needs a scene file"], argv=["run"]),
+    Row("two scene files", 2, ["unexpected argument"], argv=["run", PLATE, PLATE]),
+    Row("unknown command", 2, ["unknown command 'launch'"], argv=["launch"]),
+    Row("no command", 2, ["usage: sphsolid run SCENE"], argv=[]),
+    Row("--restart with a scene file", 2, ["give no scene file"],
+        argv=["run", PLATE, "--restart", "{dir}"]),
+    Row("--restart of a directory without a checkpoint", 2,
+        ["cannot read {dir}/checkpoint/checkpoint.h5: No such file or directory"],
+        argv=["run", "--restart", "{dir}", "--quiet"]),
+    Row("--restart changing the physics", 2, ["a restart may change only time.end and output.*"],
+        argv=["run", "--restart", "{dir}", "--set", "method.formulation=og"]),
+    Row("compare: missing run directories", 2, ["run directory nope_a: No such file or directory"],
+        argv=["compare", "nope_a", "nope_b"]),
+    # --- runtime failures (exit 1): devices, memory, output
+    Row("--backend opencl without an OpenCL device", 1, ["no OpenCL device found"],
+        args=FAST + ["--backend", "opencl"],
+        env={"OCL_ICD_VENDORS": "{dir}/no-vendors", "OPENCL_VENDOR_PATH": "{dir}/no-vendors"}),
+    Row("particle count beyond the memory (resolution.ratio = 1e5)", 1,
+        ["at dp = 2e-07 the shape of body 'plate' spans about 1.3e+11 lattice points",
+         "need at least", "TiB of memory", "physical memory", "lower the resolution"],
+        args=["--set", "resolution.ratio=1e5"]),
+    Row("particle arrays beyond the process's memory limit", 1,
+        ["particles at dp = ", "need", "for their initial arrays alone, but this process may "
+         "use 64.0 MiB (its data-size limit, ulimit -d", "lower the resolution"],
+        args=["--set", "resolution.ratio=600"], data_limit=64 << 20),
+    Row("native backend beyond the process's memory limit", 1,
+        ["the native backend needs", "of neighbour lists",
+         "but this process may use 512.0 MiB (its data-size limit, ulimit -d"],
+        args=["--set", "resolution.ratio=300"], data_limit=512 << 20),
+    Row("output directory below a regular file", 1,
+        ["cannot create output directory {dir}/file/out: Not a directory"],
+        args=FAST, fs="below-file"),
+    Row("output directory on a read-only filesystem", 1,
+        ["cannot create output directory {out}: Read-only file system"], args=FAST,
+        fs="read-only"),
+    Row("disk full: the time series", 1,
+        ["cannot write {out}/timeseries.csv.partial: No space left on device"], args=FAST,
+        fs=("full", 0, "timeseries.csv")),
+    Row("disk full: the first snapshot", 1,
+        ["cannot write {out}/snapshots/snapshot_000000.hdf.partial: No space left on device"],
+        args=FAST, fs=("full", 8192, "snapshot_000000")),
+    Row("disk full: a later snapshot (the completed one is marked .partial)", 1,
+        ["cannot write {out}/snapshots/snapshot_000001.hdf.partial: No space left on device"],
+        args=FAST, fs=("full", "one-snapshot", "snapshot_000001")),
+    Row("disk full: summary.json (timeseries.csv is marked .partial again)", 1,
+        ["cannot write {out}/summary.json.partial: No space left on device"],
+        args=FAST + ["--set", "output.snapshot_interval=0"], fs=("full", 4096, "summary.json")),
+]
+
+
+# ---------------------------------------------------------------- machinery
+def line_of(text, needle):
+    for k, line in enumerate(text.splitlines(), 1):
+        if needle in line:
+            return k
+    raise AssertionError("marker %r not in the scene" % needle)
+
+
+def complete_looking(root):
+    """Files under root that look like a complete result."""
+    found = []
+    for d, _, files in os.walk(root):
+        for f in files:
+            if f in RESULTS or (os.path.basename(d) == "snapshots" and f.endswith(".hdf")):
+                found.append(os.path.join(d, f))
+    return found
+
+
+class Mount:
+    """A tmpfs of `size` bytes at `path` (read-only, or with `free` bytes
+    left); `ok` is False where this process may not mount."""
+
+    def __init__(self, path, size, free=None, ro=False):
+        self.path, self.ok = path, False
+        os.makedirs(path)
+        opts = "size=%d" % size + (",ro" if ro else "")
+        try:
+            p = subprocess.run(["mount", "-t", "tmpfs", "-o", opts, "tmpfs", path],
+                               capture_output=True, text=True)
+            self.ok = p.returncode == 0
+        except OSError:  # no mount(8)
+            self.ok = False
+        if self.ok and free is not None:
+            with open(os.path.join(path, "filler"), "wb") as f:
+                f.write(b"\0" * (size - free))
+
+    def close(self):
+        if self.ok:
+            subprocess.run(["umount", self.path], check=False)
+            self.ok = False
+
+
+SNAPSHOT_BYTES = []  # size of the plate's first snapshot at FAST settings
+
+
+def snapshot_bytes(tmp):
+    if not SNAPSHOT_BYTES:
+        out = os.path.join(tmp, "measure")
+        p = subprocess.run([BIN, "run", PLATE, "--backend", "cpu", "--quiet", "--out", out] + FAST,
+                           capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0, p.stderr
+        SNAPSHOT_BYTES.append(os.path.getsize(os.path.join(out, "snapshots",
+                                                           "snapshot_000000.hdf")))
+        shutil.rmtree(out)
+    return SNAPSHOT_BYTES[0]
+
+
+# AddressSanitizer reserves terabytes of shadow memory at start: a process
+# under a data-size limit cannot even start (the release build runs those rows)
+with open(BIN, "rb") as f:
+    SANITIZED = b"__asan_init" in f.read()
+
+
+def run_row(k, row, tmp, paths_used):
+    if row.data_limit and SANITIZED:
+        print("  %-66s (skipped under AddressSanitizer)" % row.what[:66])
+        return
+    d = os.path.join(tmp, "row%03d" % k)
+    os.makedirs(d)
+    out = os.path.join(d, "out")
+    mount = None
+    env = dict(os.environ)
+    for key, value in row.env.items():
+        env[key] = value.format(dir=d)
+        if "no-vendors" in value:
+            os.makedirs(env[key], exist_ok=True)
+    if row.fs == "below-file":
+        open(os.path.join(d, "file"), "w").close()
+        out = os.path.join(d, "file", "out")
+    elif row.fs == "read-only":
+        mount = Mount(os.path.join(d, "ro"), 65536, ro=True)
+        if not mount.ok:
+            print("  (skipped: this process may not mount a read-only tmpfs; the row 'below a "
+                  "regular file' covers an unwritable output directory)")
+            return
+        out = os.path.join(d, "ro", "out")
+    elif isinstance(row.fs, tuple):
+        _, free, inject = row.fs
+        if free == "one-snapshot":
+            # the time series, the first snapshot and its index fit, the second does not
+            free = 4096 * (3 + (snapshot_bytes(tmp) + 4095) // 4096)
+        mount = Mount(os.path.join(d, "small"), 262144, free=free)
+        if mount.ok:
+            out = os.path.join(d, "small", "out")
+            paths_used.add("tmpfs")
+        else:
+            env["SPHSOLID_TEST_DISK_FULL"] = inject
+            paths_used.add("fault injection")
+
+    text = None
+    if row.text is not None or row.edits:
+        text = row.text if row.text is not None else PLATE_TEXT
+        for old, new in row.edits:
+            assert old in text, (row.what, old)
+            text = text.replace(old, new, 1)
+        with open(os.path.join(d, SCENE), "w") as f:
+            f.write(text)
+    if row.argv is not None:
+        argv = [a.format(dir=d) for a in row.argv]
+    else:
+        argv = ["run", SCENE if text is not None else PLATE, "--backend", "cpu", "--quiet",
+                "--out", out] + [a.format(dir=d) for a in row.args]
+        if "--backend" in row.args:  # the row chooses the backend
+            argv = argv[:2] + argv[4:]
+
+    def limit():
+        if row.data_limit:
+            resource.setrlimit(resource.RLIMIT_DATA, (row.data_limit, row.data_limit))
+
+    try:
+        p = subprocess.run([BIN] + argv, cwd=d, env=env, capture_output=True, text=True,
+                           timeout=300, preexec_fn=limit if row.data_limit else None)
+        err = p.stderr.strip()
+        what = "%s: %s" % (row.what, err or "(no message)")
+        fmt = {"file": SCENE, "out": out, "dir": d}
+        if text is not None and row.marker:
+            fmt["line"] = line_of(text, row.marker) + row.offset
+        if text is not None and row.marker_b:
+            fmt["line_b"] = line_of(text, row.marker_b) + row.offset_b
+        check(p.returncode == row.code,
+              "%s: exit status %d, expected %d" % (what, p.returncode, row.code))
+        for frag in row.fragments:
+            frag = frag.format(**fmt)
+            check(frag in err, "%s\n    expected: %s" % (what, frag))
+        first = err.splitlines()[0] if err else ""
+        if row.located:
+            check(re.match(r"sphsolid: %s:\d+: (syntax error|[\w.\[\]-]+: )" % re.escape(SCENE),
+                           first),
+                  "%s: the message names no file, line and key" % what)
+        if row.code == 1:
+            check(len(err.splitlines()) == 1 and first.startswith("sphsolid: "),
+                  "%s: not one line" % what)
+        roots = [d] + ([out] if not out.startswith(d) else [])
+        for r in roots:
+            left = complete_looking(r)
+            check(not left, "%s: complete-looking results left: %s" % (row.what, left))
+        if row.fs and isinstance(row.fs, tuple) and row.fs[1] == "one-snapshot":
+            check(os.path.exists(os.path.join(out, "snapshots", "snapshot_000000.hdf.partial")),
+                  "%s: the completed snapshot is kept as .partial" % row.what)
+        print("  %-66s %d  %s" % (row.what[:66], p.returncode, first[:110]))
+    finally:
+        if mount:
+            mount.close()
+
+
+def touching_bodies_run(tmp):
+    """Control: two bodies that touch (not overlap) are accepted and run."""
+    text = PLATE_TEXT.replace(
+        '  plate = { type = "union"; parts = ["beam", "base"]; };',
+        '  plate = { type = "union"; parts = ["beam", "base"]; };\n'
+        '  free_part = { type = "box"; lower = [0.2, -0.01]; upper = [0.24, 0.01]; };')
+    text = text.replace(
+        '    constraints = ( { type = "fixed"; region = "clamp"; } );\n  }\n',
+        '    constraints = ( { type = "fixed"; region = "clamp"; } );\n  },\n'
+        '  { name = "extension"; material = "plate"; shape = "free_part"; }\n')
+    d = os.path.join(tmp, "touching")
+    os.makedirs(d)
+    with open(os.path.join(d, SCENE), "w") as f:
+        f.write(text)
+    # the extension starts at rest next to the moving plate: the zigzag
+    # monitor would stop that at once, and this is about the geometry
+    p = subprocess.run([BIN, "run", SCENE, "--backend", "cpu", "--quiet", "--out", "out",
+                        "--set", "monitor.action=off"] + FAST,
+                       cwd=d, capture_output=True, text=True, timeout=300)
+    check(p.returncode == 0, "two touching bodies run: exit %d: %s" % (p.returncode, p.stderr))
+    check(os.path.exists(os.path.join(d, "out", "summary.json")), "touching bodies: summary")
+
+
+def restart_after_disk_full(tmp):
+    """A run that a full disk stops keeps its checkpoint (a restart point,
+    not a result); its snapshots are marked .partial, and a restart, with
+    room again, renames those the checkpoint lists back and ends like the
+    uninterrupted run."""
+    d = os.path.join(tmp, "restart")
+    os.makedirs(d)
+    args = ["--backend", "cpu", "--quiet", "--set", "resolution.ratio=4", "--set",
+            "time.end=0.03", "--set", "output.snapshot_interval=0.01"]
+    env = dict(os.environ, SPHSOLID_TEST_DISK_FULL="snapshot_000002")
+    p = subprocess.run([BIN, "run", PLATE, "--out", "a", "--checkpoint-every", "0.01"] + args,
+                       cwd=d, env=env, capture_output=True, text=True, timeout=300)
+    check(p.returncode == 1 and "snapshot_000002.hdf.partial: No space left on device" in p.stderr,
+          "disk full with checkpoints: exit %d: %s" % (p.returncode, p.stderr))
+    a = os.path.join(d, "a")
+    check(not complete_looking(os.path.join(a, "snapshots")) and
+          os.path.exists(os.path.join(a, "snapshots", "snapshot_000001.hdf.partial")) and
+          os.path.exists(os.path.join(a, "checkpoint", "checkpoint.h5")),
+          "disk full with checkpoints: snapshots .partial, checkpoint kept")
+    p = subprocess.run([BIN, "run", "--restart", "a", "--backend", "cpu", "--quiet"], cwd=d,
+                       capture_output=True, text=True, timeout=300)
+    check(p.returncode == 0, "restart after a full disk: exit %d: %s" % (p.returncode, p.stderr))
+    p = subprocess.run([BIN, "run", PLATE, "--out", "b"] + args, cwd=d, capture_output=True,
+                       text=True, timeout=300)
+    p = subprocess.run([BIN, "compare", "a", "b", "--rtol", "0"], cwd=d, capture_output=True,
+                       text=True, timeout=300)
+    check(p.returncode == 0 and len(os.listdir(os.path.join(a, "snapshots"))) == 4,
+          "restart after a full disk equals the uninterrupted run: %s" % p.stdout[-300:])
+
+
+def opencl_memory_row():
+    """With an OpenCL device: a particle count its buffers cannot hold,
+    refused before anything is allocated on it (skipped when the device is
+    so large that the host would need GBs for the particle arrays)."""
+    p = subprocess.run([BIN, "devices"], capture_output=True, text=True)
+    m = re.search(r"OpenCL device 0: .*?, ([0-9.]+) GiB, double precision: yes", p.stdout)
+    if not m:
+        return None
+    gib = float(m.group(1))
+    particles = 1.3 * gib * 2**30 / 1400.0  # 2D double: about 1.5 KiB of buffers each
+    if particles > 6e6:
+        return None
+    ratio = (particles / 13.0) ** 0.5  # the plate has about 13 ratio^2 particles
+    return Row("OpenCL: particles beyond the device's memory", 1,
+               ["OpenCL device 0 (", "GiB of global memory, but", "particles need",
+                "of buffers", "lower the resolution or use --backend cpu"],
+               args=["--backend", "opencl", "--set", "resolution.ratio=%.0f" % ratio])
+
+
+tmp = tempfile.mkdtemp(prefix="sphsolid-bad-input-")
+paths_used = set()
+try:
+    rows = list(ROWS)
+    ocl = opencl_memory_row()
+    if ocl:
+        rows.append(ocl)
+    else:
+        print("(no OpenCL device with double precision and a few GiB: the OpenCL memory row "
+              "is skipped)")
+    for k, row in enumerate(rows):
+        run_row(k, row, tmp, paths_used)
+    touching_bodies_run(tmp)
+    restart_after_disk_full(tmp)
+    print("disk-full rows ran on: %s" % (", ".join(sorted(paths_used)) or "none"))
+finally:
+    for d, _, _ in os.walk(tmp, topdown=False):
+        if os.path.ismount(d):
+            subprocess.run(["umount", d], check=False)
+    shutil.rmtree(tmp, ignore_errors=True)
+
+finish("test_bad_input")

@@ -1,0 +1,222 @@
+#!/usr/bin/python3
+"""bench_stability.py — the stiff and extreme suite (issue 7).
+
+For each formulation (default SPH-OG, SPH-OAS, SPH-ENOG, SPH-ENOG-A, SPH-GNOG-A):
+
+  nu       the 2D oscillating plate (cases/oscillating_plate_2d, v_f of the case) and the 2D
+           spinning plate (cases/spinning_plate_2d) at Poisson's ratio 0.3, 0.45, 0.49,
+           0.499 (Young's modulus kept, so c0 grows as 1/sqrt(1 - 2 nu));
+  long     the plate over >= 30 oscillation periods (energy decay, any late zigzag);
+
+each run with the instability monitor on (monitor.action = "stop": a run that breaks stops
+there, and the table says when and why).  Columns: stable or not (time and quantity of the
+trip), minimum pair distance over dp, energy drift (final and largest E/E0 - 1),
+angular-momentum error (spinning plate), wall time.  The papers' expectation: SPH-OG fails
+early, SPH-OAS degrades, SPH-ENOG-A and SPH-GNOG-A stay stable.
+
+Cases of the suite that need contact, constraints or plasticity scenes the case library
+does not have yet (rings at 0.06-0.08 c0, ball-plate at 0.02-0.12 c0, the tensile test at
+E = 2.1e10, the Taylor bars, the 3100 m/s impact) are listed as not yet available.
+
+Writes JSON (--json) and a Markdown table (--markdown).  Usage:
+  tools/bench_stability.py --json bench-results/stability.json --markdown docs/stability.md
+  tools/bench_stability.py --formulations enog-a og --suites nu     (a subset)
+Low resolutions keep the whole suite to a few minutes per formulation on 2 cores
+(--plate-ratio, --spin-dp, --end, --long-periods change them).
+"""
+import argparse
+import csv
+import datetime
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.environ.get("SPHSOLID_BIN", os.path.join(ROOT, "build", "sphsolid"))
+PLATE = os.path.join(ROOT, "cases", "oscillating_plate_2d", "scene.cfg")
+SPIN = os.path.join(ROOT, "cases", "spinning_plate_2d", "scene.cfg")
+FORMULATIONS = ["og", "oas", "enog", "enog-a", "gnog", "gnog-a"]
+DEFAULT_FORMULATIONS = ["og", "oas", "enog", "enog-a", "gnog-a"]
+ROTATING = ("enog-a", "gnog-a")
+NUS = [0.3, 0.45, 0.49, 0.499]
+NOT_YET = [
+    ("colliding rubber rings, v0 = 0.06, 0.07, 0.08 c0", "body-body contact (issue 4)"),
+    ("rubber ball-plate, v0 = 0.02, 0.06, 0.12 c0", "body-body contact (issue 4)"),
+    ("tensile test, E = 2.1e10, v_pull = 500", "prescribed-velocity constraints (issue 4)"),
+    ("round and square Taylor bars", "rigid-wall contact (issue 4)"),
+    ("high-velocity impact, 3100 m/s", "contact (issue 4)"),
+]
+
+
+def run_case(scene, material, form, sets, out_root, backend, label):
+    out = os.path.join(out_root, label)
+    args = [BIN, "run", scene, "--out", out, "--quiet", "--backend", backend,
+            "--set", f"method.formulation={form}",
+            "--set", f"method.rotation={'averaged' if form in ROTATING else 'none'}",
+            "--set", "output.snapshot_interval=0", "--set", "monitor.action=stop"]
+    for s in sets:
+        args += ["--set", s]
+    t0 = time.monotonic()
+    p = subprocess.run(args, capture_output=True, text=True)
+    wall = time.monotonic() - t0
+    row = {"formulation": form, "exit_status": p.returncode, "wall_s": wall,
+           "settings": sets}
+    if p.returncode not in (0, 4):
+        row.update(status="error", message=p.stderr.strip()[-400:])
+        return row
+    with open(os.path.join(out, "summary.json")) as f:
+        s = json.load(f)
+    with open(os.path.join(out, "timeseries.csv")) as f:
+        rows = list(csv.DictReader(f))
+    e0 = float(rows[0]["total_energy"])
+    energies = [float(r["total_energy"]) for r in rows]
+    ins = s.get("instability")
+    row.update(
+        status="stable" if s["status"] == "completed" else "unstable",
+        instability=ins,
+        end_time=float(rows[-1]["time"]),
+        min_distance_ratio=min(float(r["min_distance_ratio"]) for r in rows),
+        max_zigzag=max(float(r["zigzag_indicator"]) for r in rows),
+        energy_drift_final=energies[-1] / e0 - 1.0 if e0 > 0 else None,
+        energy_growth_max=max(energies) / e0 - 1.0 if e0 > 0 else None,
+        angular_momentum_error=s["metrics"].get("max_angular_momentum_error"),
+        first_period=s["metrics"].get("first_period"),
+        particles=s.get("particles") or s.get("particle_count"),
+        acoustic_steps=s.get("acoustic_steps"))
+    return row
+
+
+def fmt(x, spec):
+    return "—" if x is None else format(x, spec)
+
+
+def stable_cell(r):
+    if r["status"] == "error":
+        return "error"
+    if r["status"] == "stable":
+        return "stable"
+    ins = r["instability"] or {}
+    q = ins.get("quantity", "")
+    return f"**fails** t = {ins.get('time', float('nan')):.3g} s ({q})"
+
+
+def markdown(results, meta):
+    lines = [f"# Stiff and extreme suite\n",
+             f"Produced by `{meta['command']}` on {meta['date']} ({meta['host']}, backend "
+             f"{meta['backend']}, commit {meta['commit']}). Every run has the instability "
+             f"monitor on with its default thresholds (`docs/scene-format.md`, `monitor`) and "
+             f"`monitor.action = \"stop\"`: an unstable run stops at the trip.\n"]
+    for suite, title in (("plate_nu", "2D oscillating plate, Poisson's ratio"),
+                         ("spin_nu", "2D spinning plate, Poisson's ratio"),
+                         ("long", "2D oscillating plate, long run")):
+        rs = [r for r in results if r["suite"] == suite]
+        if not rs:
+            continue
+        lines.append(f"## {title}\n")
+        lines.append(rs[0]["description"] + "\n")
+        lines.append("| formulation | ν | stable | min r/dp | max zigzag | E(end)/E0 − 1 | "
+                     "max E/E0 − 1 | max AM error | wall (s) |")
+        lines.append("|---|---|---|---|---|---|---|---|---|")
+        for r in rs:
+            am = r.get("angular_momentum_error") if suite == "spin_nu" else None
+            lines.append(
+                f"| {r['formulation']} | {r['nu']} | {stable_cell(r)} | "
+                f"{fmt(r.get('min_distance_ratio'), '.3f')} | {fmt(r.get('max_zigzag'), '.3g')} | "
+                f"{fmt(r.get('energy_drift_final'), '+.3g')} | "
+                f"{fmt(r.get('energy_growth_max'), '+.2g')} | "
+                f"{fmt(None if am is None else 100 * am, '.2f')}{'' if am is None else ' %'} | "
+                f"{r['wall_s']:.1f} |")
+        lines.append("")
+    lines.append("## Not yet available\n")
+    lines.append("| case | needs |")
+    lines.append("|---|---|")
+    for case, need in NOT_YET:
+        lines.append(f"| {case} | {need} |")
+    lines.append("")
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[1])
+    ap.add_argument("--formulations", nargs="+", default=DEFAULT_FORMULATIONS,
+                    choices=FORMULATIONS)
+    ap.add_argument("--suites", nargs="+", default=["nu", "long"], choices=["nu", "long"])
+    ap.add_argument("--nus", nargs="+", type=float, default=NUS)
+    ap.add_argument("--backend", default="cpu", choices=["cpu", "opencl"])
+    ap.add_argument("--plate-ratio", type=float, default=6.0, help="plate H/dp (default 6)")
+    ap.add_argument("--spin-dp", type=float, default=0.05, help="spinning plate dp")
+    ap.add_argument("--end", type=float, default=0.5, help="end time of the nu runs (s)")
+    ap.add_argument("--long-periods", type=float, default=30.0)
+    ap.add_argument("--json")
+    ap.add_argument("--markdown")
+    args = ap.parse_args()
+    if not os.path.exists(BIN):
+        sys.exit(f"bench_stability.py: {BIN} not found: build first (bash tools/setup.sh)")
+    out_root = tempfile.mkdtemp(prefix="sphsolid-stability-")
+    results = []
+    plate_sets = [f"resolution.ratio={args.plate_ratio}"]
+    for form in args.formulations:
+        if "nu" in args.suites:
+            for nu in args.nus:
+                r = run_case(PLATE, "plate", form,
+                             plate_sets + [f"materials.plate.poisson_ratio={nu}",
+                                           f"time.end={args.end}"],
+                             out_root, args.backend, f"plate-{form}-{nu}")
+                r.update(suite="plate_nu", nu=nu, description=(
+                    f"Plate of cases/oscillating_plate_2d at H/dp = {args.plate_ratio:g} to "
+                    f"t = {args.end:g} s, E = 2e6 Pa kept, ν varied."))
+                results.append(r)
+                print(f"plate  {form:7s} nu={nu:<6} {stable_cell(r):45s} "
+                      f"min r/dp {fmt(r.get('min_distance_ratio'), '.3f')} "
+                      f"wall {r['wall_s']:.1f} s", flush=True)
+                r = run_case(SPIN, "rubber", form,
+                             [f"resolution.dp={args.spin_dp}",
+                              f"materials.rubber.poisson_ratio={nu}", f"time.end={args.end}"],
+                             out_root, args.backend, f"spin-{form}-{nu}")
+                r.update(suite="spin_nu", nu=nu, description=(
+                    f"Spinning plate of cases/spinning_plate_2d at dp = {args.spin_dp:g} to "
+                    f"t = {args.end:g} s (ω = 50 rad/s), E = 1.7e7 Pa kept, ν varied."))
+                results.append(r)
+                am = r.get("angular_momentum_error")
+                print(f"spin   {form:7s} nu={nu:<6} {stable_cell(r):45s} "
+                      f"AM err {fmt(None if am is None else 100 * am, '.2f')} % "
+                      f"wall {r['wall_s']:.1f} s", flush=True)
+        if "long" in args.suites:
+            # thin-plate period 0.254 s (003 eq. 52); coarse plates are slower (0.29 s at
+            # H/dp = 4), so 0.3 s per period is a safe upper bound
+            end = args.long_periods * 0.3
+            r = run_case(PLATE, "plate", form, plate_sets + [f"time.end={end}"], out_root,
+                         args.backend, f"long-{form}")
+            r.update(suite="long", nu=0.3975, description=(
+                f"Plate of cases/oscillating_plate_2d at H/dp = {args.plate_ratio:g} to "
+                f"t = {end:g} s (≥ {args.long_periods:g} periods of ≤ 0.3 s), ν = 0.3975."))
+            results.append(r)
+            print(f"long   {form:7s} {stable_cell(r):52s} E(end)/E0-1 "
+                  f"{fmt(r.get('energy_drift_final'), '+.3g')} wall {r['wall_s']:.1f} s",
+                  flush=True)
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
+                           capture_output=True, text=True).stdout.strip()
+    if commit and dirty:
+        commit += " with uncommitted changes"
+    meta = {"command": "tools/bench_stability.py " + " ".join(sys.argv[1:]),
+            "date": datetime.date.today().isoformat(),
+            "host": f"{platform.node()}, {os.cpu_count()} cores",
+            "backend": args.backend, "commit": commit or "unknown"}
+    md = markdown(results, meta)
+    print(md)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"meta": meta, "results": results}, f, indent=1)
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(md)
+
+
+if __name__ == "__main__":
+    main()
