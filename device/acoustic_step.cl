@@ -3,13 +3,18 @@
  * 000 eqs. 27-29 with the order of operations of the reference code
  * (reference notes §3.8), fused into two neighbour passes:
  *
+ *  acoustic_contact (per particle i; scenes with several bodies only)
+ *    a^diss += contact acceleration at the half-step positions
+ *    x^{n+1/2} = x^n + dt/2 v^n of the pair (sph_contact.h);
+ *
  *  acoustic_pressure (per particle i)
  *    rho^{n+1/2} = rho^n + dt/2 drho^n and p = c0^2 (rho - rho0), evaluated
  *    on the fly for i and every neighbour j (no extra pass over memory);
  *    a^s <- Rbar (a^s + da^s) for SPH-ENOG-A (003 eqs. 41-42, with Rbar and
  *    da^s from the previous substep, see below);
  *    v^{n+1} = v^n + dt [a^p + a^diss + a^s + g]   (000 eq. 28, 003 eq. 16);
- *    clamp: v = 0, x = x0 for fixed particles;
+ *    constraints: prescribed v (0: clamp, roller) along the constrained
+ *    axes, x <- x + dt v there (sph_constraints.h);
  *    x^{n+1} = x^n + dt/2 (v^n + v^{n+1})          (000 eqs. 27, 29).
  *
  *  acoustic_velocity_terms (per particle i), all from the new velocities:
@@ -33,6 +38,8 @@
 #include "sph_plasticity.h"
 #include "sph_artificial_stress.h"
 #include "sph_smoothing_kernel.h"
+#include "sph_constraints.h"
+#include "sph_contact.h"
 
 #if SPH_HAS_ROTATION_AVG
 #    define ROTATION_AVG_PARAMS                                                                    \
@@ -50,7 +57,7 @@
 #    define BODY_OF(i) 0
 #endif
 #if SPH_HAS_CLAMP
-#    define CLAMP_PARAMS , GLOBAL const real *restrict pos0, GLOBAL const u8 *restrict fixed
+#    define CLAMP_PARAMS , GLOBAL const u8 *restrict fixed
 #else
 #    define CLAMP_PARAMS
 #endif
@@ -116,6 +123,26 @@ FN void accumulate_increment(GLOBAL real *restrict acc, GLOBAL real *restrict da
     }
 }
 
+#if SPH_HAS_CONTACT
+/* Contact between bodies (sph_contact.h), before the velocity update: the
+ * force at the half-step positions, as position Verlet evaluates a force of
+ * the positions (000 eqs. 27-29), added to the dissipation acceleration the
+ * update applies.  Reads positions and velocities only, so it runs
+ * race-free before acoustic_pressure moves them. */
+KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, const real dt,
+                             CONSTANT real *prm, GLOBAL const int *restrict nbr_j,
+                             GLOBAL const int *restrict contact_count,
+                             GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
+                             GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+                             GLOBAL real *restrict acc_diss) {
+    const int i = ITEM_ID;
+    if (i >= n || contact_count[i] == 0) return;
+    const vec a = contact_acceleration(i, n, cap, R(0.5) * dt, prm, nbr_j, contact_count, pos, vel,
+                                       mass, vol);
+    vec_store(acc_diss, n, i, vec_add(vec_load(acc_diss, n, i), a));
+}
+#endif
+
 KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real dt,
                               CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
                               GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
@@ -167,12 +194,10 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real 
     vec acc = vec_add(a_p, a_s);
     for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
     vec v_new = vec_axpy(v_old, dt, acc);
-    vec x_new = vec_axpy(vec_load(pos, n, i), half_dt, vec_add(v_old, v_new));
+    const vec x_old = vec_load(pos, n, i);
+    vec x_new = vec_axpy(x_old, half_dt, vec_add(v_old, v_new));
 #if SPH_HAS_CLAMP
-    if (PRESENT(fixed) && fixed[i]) {
-        v_new = vec_zero();
-        x_new = vec_load(pos0, n, i);
-    }
+    if (PRESENT(fixed)) apply_constraint(prm, fixed[i], dt, x_old, &x_new, &v_new);
 #endif
     vec_store(vel, n, i, v_new);
     vec_store(pos, n, i, x_new);

@@ -114,6 +114,20 @@ FN mat refine_correction(const mat a, const mat b) {
 #    define PAIR_W_PARAMS
 #endif
 
+#if SPH_HAS_CONTACT
+/* bodies that do not merge (sph_contact.h): the body of every particle, and
+ * the number of its contact neighbours */
+#    define CONTACT_BUILD_PARAMS                                                                   \
+        , GLOBAL const u8 *restrict body, GLOBAL int *restrict contact_count
+#else
+#    define CONTACT_BUILD_PARAMS
+#endif
+
+/* Neighbours of i within the cut-off 2h.  With several bodies
+ * (SPH_HAS_CONTACT) only those of i's own body enter the list, the pair
+ * geometry and B; the others are contact neighbours, stored from the top of
+ * i's row down (slots cap - 1, cap - 2, ...; sph_contact.h), and the row
+ * overflows when both together exceed it. */
 KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT real *prm,
                              GLOBAL const real *restrict pos, GLOBAL const real *restrict vol,
                              GLOBAL const real *restrict grid_geom, const int gx, const int gy,
@@ -122,7 +136,7 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
                              GLOBAL int *restrict nbr_j, GLOBAL real *restrict pair_e,
                              GLOBAL real *restrict pair_dwv, GLOBAL real *restrict pair_inv_r,
                              GLOBAL real *restrict bmat,
-                             GLOBAL int *restrict overflow PAIR_W_PARAMS) {
+                             GLOBAL int *restrict overflow PAIR_W_PARAMS CONTACT_BUILD_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -142,7 +156,11 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
     const int y_lo = cy > 0 ? cy - 1 : 0, y_hi = cy < gy - 1 ? cy + 1 : gy - 1;
     const int x_lo = cx > 0 ? cx - 1 : 0, x_hi = cx < gx - 1 ? cx + 1 : gx - 1;
 
-    int count = 0;
+    int count = 0, ncontact = 0;
+#if SPH_HAS_CONTACT
+    const bool separate = PRESENT(contact_count);
+    const int body_i = separate ? (int)body[i] : 0;
+#endif
     mat moment = mat_zero();
     for (int z = z_lo; z <= z_hi; ++z)
         for (int y = y_lo; y <= y_hi; ++y) {
@@ -163,10 +181,17 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
                 /* coincident particles have no direction: left out of the
                  * sums (the instability monitor reports such clustering) */
                 if (r2 >= cutoff2 || r2 <= R(0)) continue;
+#if SPH_HAS_CONTACT
+                if (separate && (int)body[j] != body_i) {
+                    if (count + ncontact < cap) nbr_j[NBR_AT(i, cap - 1 - ncontact)] = j;
+                    ++ncontact;
+                    continue;
+                }
+#endif
                 const real r = sqrt(r2);
                 const vec e = vec_scale(d, R(1) / r);
                 const real dwv = kernel_dw(prm, r) * vol[j];
-                if (count < cap) {
+                if (count + ncontact < cap) {
                     const int slot = NBR_AT(i, count);
                     nbr_j[slot] = j;
                     for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
@@ -181,8 +206,11 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
                 ++count;
             }
         }
-    if (count > cap) ATOMIC_MAX_INT(overflow, count);
+    if (count + ncontact > cap) ATOMIC_MAX_INT(overflow, count + ncontact);
     nbr_count[i] = count < cap ? count : cap;
+#if SPH_HAS_CONTACT
+    if (separate) contact_count[i] = count + ncontact <= cap ? ncontact : 0;
+#endif
     mat b = correction_matrix(moment);
     if (RUNTIME_FORMULATION == FORMULATION_TLSPH) b = refine_correction(moment, b);
     sym_store(bmat, n, i, b);

@@ -53,7 +53,14 @@
 #define PRM_LAMBDA        24 /* Lame's first parameter (TLSPH Saint Venant-Kirchhoff) */
 #define PRM_BODY_COUNT    32 /* particles per body, SPH_MAX_BODIES entries */
 #define SPH_MAX_BODIES    8
-#define PRM_COUNT         (PRM_BODY_COUNT + SPH_MAX_BODIES)
+/* the constraint table: constraint k (particles whose `fixed` is k + 1)
+ * holds PRM_CONSTRAINT_STRIDE values from PRM_CONSTRAINT + k * stride: the
+ * mask of its constrained axes (bit a: axis a) and the velocity prescribed
+ * along them (3 values; 0 for a fixed constraint) */
+#define PRM_CONSTRAINT        (PRM_BODY_COUNT + SPH_MAX_BODIES)
+#define PRM_CONSTRAINT_STRIDE 4
+#define SPH_MAX_CONSTRAINTS   16
+#define PRM_COUNT             (PRM_CONSTRAINT + SPH_MAX_CONSTRAINTS * PRM_CONSTRAINT_STRIDE)
 
 /* Layout of the instability monitor's reduction (device/monitor.cl), all
  * components combined by max. */
@@ -64,5 +71,11 @@
 #define SPH_MONITOR_MAX_X        4 /* max x (dim), then max -x (dim) */
 #define SPH_MONITOR_NCOMP(dim)   (SPH_MONITOR_MAX_X + 2 * (dim))
 #define SPH_MONITOR_NCOMP_MAX    SPH_MONITOR_NCOMP(3)
+
+/* Contact between bodies (device/sph_contact.h), in free slots of the
+ * parameter block below PRM_BODY_COUNT: the factors of the impedance term
+ * (x 1/2 rho0 c0) and of the penalty (x rho0 c0^2); 1 and 1 by default. */
+#define PRM_CONTACT_IMPEDANCE 30
+#define PRM_CONTACT_PENALTY   31
 
 #endif

@@ -15,6 +15,10 @@
  *   SPH_ROTATION     ROTATION_* : how the accumulated shear acceleration turns
  *   SPH_HAS_CLAMP    1 when the scene has fixed (clamped) particles
  *   SPH_NBODIES      number of bodies (1 when the scene has one body)
+ *   SPH_CONTACT      1 when bodies must not merge: the neighbour lists hold
+ *                    same-body pairs, and different bodies interact only by
+ *                    the contact force (sph_contact.h); scenes with several
+ *                    bodies (updated-Lagrangian formulations)
  *   SPH_NBR_ROW_MAJOR 1: pair slot (i,k) at i*cap+k (CPU caches);
  *                     0: at k*n+i (coalesced on GPUs)
  *   SPH_WG           work-group size of the reduction kernels
@@ -64,6 +68,8 @@ typedef float real;
 /* TLSPH with a J2 material: the finite-strain return map and the 002
  * hourglass switch (sph_plasticity.h, tl_step.cl) */
 #    define SPH_HAS_TL_PLASTICITY (SPH_HAS_TLSPH && SPH_PLASTIC)
+/* separate bodies with contact between them (sph_contact.h) */
+#    define SPH_HAS_CONTACT SPH_CONTACT
 typedef uchar u8;
 #    define ATOMIC_MAX_INT(p, v) atomic_max((p), (v))
 #    define REAL_LOWEST          (-INFINITY)
@@ -100,6 +106,7 @@ typedef float real;
 #    define SPH_HAS_PLASTICITY   1
 
 #    define SPH_HAS_TL_PLASTICITY 1
+#    define SPH_HAS_CONTACT       1
 #    ifndef SPH_HAS_CLAMP
 #        define SPH_HAS_CLAMP 1
 #    endif

@@ -71,12 +71,13 @@
 #include "sph_vec.h"
 #include "sph_smoothing_kernel.h"
 #include "sph_elasticity.h"
+#include "sph_constraints.h"
 #include "sph_plasticity.h"
 
 #if SPH_HAS_TLSPH
 
 #    if SPH_HAS_CLAMP
-#        define TL_CLAMP_PARAMS , GLOBAL const real *restrict pos0, GLOBAL const u8 *restrict fixed
+#        define TL_CLAMP_PARAMS , GLOBAL const u8 *restrict fixed
 #    else
 #        define TL_CLAMP_PARAMS
 #    endif
@@ -295,12 +296,10 @@ KERNEL void tl_update(ITEM_PARAM const int n, const real dt, CONSTANT real *prm,
     for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
     const vec v_old = vec_load(vel, n, i);
     vec v_new = vec_axpy(v_old, dt, acc);
-    vec x_new = vec_axpy(vec_load(pos, n, i), half_dt, vec_add(v_old, v_new));
+    const vec x_old = vec_load(pos, n, i);
+    vec x_new = vec_axpy(x_old, half_dt, vec_add(v_old, v_new));
 #    if SPH_HAS_CLAMP
-    if (PRESENT(fixed) && fixed[i]) {
-        v_new = vec_zero();
-        x_new = vec_load(pos0, n, i);
-    }
+    if (PRESENT(fixed)) apply_constraint(prm, fixed[i], dt, x_old, &x_new, &v_new);
 #    endif
     vec_store(vel, n, i, v_new);
     vec_store(pos, n, i, x_new);

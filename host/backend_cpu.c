@@ -122,7 +122,6 @@ static sph_status cpu_upload(sph_backend *be, const sph_particles *p, sph_error 
     for (size_t k = 0; k < (size_t)d * n; ++k) {
         set_real(c, c->b.field[FIELD_POS], k, p->pos[k]);
         set_real(c, c->b.field[FIELD_VEL], k, p->vel[k]);
-        if (c->b.field[FIELD_POS0]) set_real(c, c->b.field[FIELD_POS0], k, p->pos[k]);
     }
     for (int i = 0; i < n; ++i) {
         set_real(c, c->b.field[FIELD_MASS], i, p->mass[i]);

@@ -46,6 +46,7 @@
 
 #define F_REAL(b, f) ((real *)(b)->field[f])
 #define F_U8(b, f)   ((u8 *)(b)->field[f])
+#define F_INT(b, f)  ((int *)(b)->field[f])
 
 static void rebuild_reduce_impl(cpu_buffers *b, double *out) {
     real result[REBUILD_NCOMP];
@@ -83,7 +84,8 @@ static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g) {
                          F_REAL(b, FIELD_VOL), (const real *)b->grid_geom, g->dims[0], g->dims[1],
                          g->dims[2], b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
                          (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r,
-                         F_REAL(b, FIELD_BMAT), &overflow, (real *)b->pair_w);
+                         F_REAL(b, FIELD_BMAT), &overflow, (real *)b->pair_w, F_U8(b, FIELD_BODY),
+                         F_INT(b, FIELD_CONTACT_COUNT));
     return overflow;
 }
 
@@ -123,7 +125,7 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
             reduce_identity(acc, 1, ncomp);
             for (int i = g * SPH_WG; i < end; ++i) {
                 tl_update(i, n, dt, prm, F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_POS),
-                          F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_POS0), F_U8(b, FIELD_FIXED));
+                          F_REAL(b, FIELD_VEL), F_U8(b, FIELD_FIXED));
                 substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
                                 F_U8(b, FIELD_BODY), c);
                 reduce_combine(acc, c, 1, ncomp);
@@ -153,17 +155,26 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     const int ncomp = substep_ncomp(prm);
     const int ngroups = (n + SPH_WG - 1) / SPH_WG;
     const bool stress_div = FORM_HAS_STRESS_DIV(RUNTIME_FORMULATION);
+    const int *contact_count = F_INT(b, FIELD_CONTACT_COUNT);
 #pragma omp parallel if (b->parallel)
     {
+        /* bodies that do not merge: the contact force first (sph_contact.h) */
+        if (contact_count) {
+#pragma omp for schedule(static)
+            for (int i = 0; i < n; ++i)
+                acoustic_contact(i, n, cap, dt, prm, b->nbr_j, contact_count, F_REAL(b, FIELD_POS),
+                                 F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                                 F_REAL(b, FIELD_ACC_DISS));
+        }
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
-            acoustic_pressure(
-                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                (const real *)b->pair_dwv, F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO),
-                F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_ACC_DISS),
-                F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
-                F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY), F_REAL(b, FIELD_POS0),
-                F_U8(b, FIELD_FIXED), F_REAL(b, FIELD_ACC_STRESS));
+            acoustic_pressure(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                              (const real *)b->pair_dwv, F_REAL(b, FIELD_RHO),
+                              F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                              F_REAL(b, FIELD_ACC_DISS), F_REAL(b, FIELD_ACC_SHEAR),
+                              F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                              F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY),
+                              F_U8(b, FIELD_FIXED), F_REAL(b, FIELD_ACC_STRESS));
 #pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g) {
             const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;

@@ -54,6 +54,7 @@ typedef struct {
         diagnostics_reduce, finalize;
     sph_cl_kernel shear_force; /* stress-divergence formulations only */
     sph_cl_kernel monitor_reduce;
+    sph_cl_kernel contact;                                    /* scenes with several bodies only */
     sph_cl_kernel tl_deformation, tl_acceleration, tl_update; /* TLSPH only */
 } kernel_set;
 
@@ -334,8 +335,6 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     if (!st) st = write_reals(o, o->field[FIELD_MASS], p->mass, (size_t)n, err);
     if (!st) st = write_reals(o, o->field[FIELD_RHO], p->rho, (size_t)n, err);
     if (!st) st = write_reals(o, o->field[FIELD_VOL], vol, (size_t)n, err);
-    if (!st && o->field[FIELD_POS0])
-        st = write_reals(o, o->field[FIELD_POS0], p->pos, (size_t)d * n, err);
     free(vol);
     if (st) return st;
     cl_int rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_ID], CL_TRUE, 0,
@@ -468,7 +467,9 @@ static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sp
     const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
     const size_t items = (size_t)be->n;
     if (o->k.tl_deformation.kernel) return tl_substep(o, items, &dt_arg, max_speed2, err);
-    sph_status st = launch(o, &o->k.pressure, items, o->wg, &dt_arg, 1, err);
+    sph_status st = SPH_OK;
+    if (o->k.contact.kernel) st = launch(o, &o->k.contact, items, o->wg, &dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.pressure, items, o->wg, &dt_arg, 1, err);
     if (!st) st = launch(o, &o->k.velocity_terms, items, o->wg, &dt_arg, 1, err);
     if (!st && o->k.shear_force.kernel)
         st = launch(o, &o->k.shear_force, items, o->wg, &dt_arg, 1, err);
@@ -652,6 +653,12 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
             st = sph_cl_kernel_create(o->program, "tl_update", o->res, RES_COUNT, &o->k.tl_update,
                                       err);
         return st;
+    }
+    /* the contact pass exists only in programs for several bodies */
+    if (o->be->features.contact) {
+        sph_status st = sph_cl_kernel_create(o->program, "acoustic_contact", o->res, RES_COUNT,
+                                             &o->k.contact, err);
+        if (st) return st;
     }
     /* the program has the third pass only when the formulation needs it */
     if (FORM_HAS_STRESS_DIV((int)o->be->features.formulation))

@@ -18,6 +18,9 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
     out->stepping = scene->stepping;
     out->has_clamp = particles->fixed != NULL && particles->fixed_count > 0;
     out->nbodies = scene->nbodies;
+    /* bodies do not merge: they meet through the contact force (TLSPH runs
+     * one body, scene.c) */
+    out->contact = scene->nbodies > 1 && scene->formulation != SPH_FORMULATION_TLSPH;
     for (int b = 0; b < scene->nbodies; ++b)
         if (scene->materials[scene->bodies[b].material].plastic) out->plastic = true;
 }
@@ -27,10 +30,10 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
     snprintf(buf, len,
              "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
-             "-DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
+             "-DSPH_CONTACT=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
              f->dim, f->double_precision ? 1 : 0, (int)f->kernel, (int)f->formulation,
              f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0, f->nbodies,
-             nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
+             f->contact ? 1 : 0, nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
 }
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
@@ -79,7 +82,17 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
      * makes the plate 0.6 % (nu = 0.4) to 4 % (nu = 0.22) too soft in
      * bending against 004 Table 6 (bench-results/tlsph-kernels.json). */
     prm[PRM_LAMBDA] = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
+    /* contact between bodies (device/sph_contact.h) */
+    prm[PRM_CONTACT_IMPEDANCE] = scene->contact_impedance;
+    prm[PRM_CONTACT_PENALTY] = scene->contact_penalty;
     for (int b = 0; b < f->nbodies; ++b) prm[PRM_BODY_COUNT + b] = (double)particles->body_count[b];
+    /* the constraint table (device/sph_constraints.h) */
+    for (int k = 0; k < sph_constraint_count(scene) && k < SPH_MAX_CONSTRAINTS; ++k) {
+        const sph_constraint *c = sph_constraint_at(scene, k);
+        double *row = prm + PRM_CONSTRAINT + k * PRM_CONSTRAINT_STRIDE;
+        row[0] = (double)c->axis_mask;
+        for (int a = 0; a < scene->dim; ++a) row[1 + a] = c->velocity[a];
+    }
     /* W(dp) normalises the artificial-stress weight f = W(r)/W(dp) */
     prm[PRM_ART_WDP] = cpu_kernels_for(f->dim, true)->kernel_w(prm, scene->dp);
     return SPH_OK;

@@ -26,6 +26,9 @@ typedef struct {
     bool has_clamp;
     bool plastic; /* J2 plasticity (003 eqs. 11-14; TLSPH: finite strain, sph_plasticity.h) */
     int nbodies;
+    /* several bodies that do not merge: same-body neighbour lists and the
+     * contact force between bodies (device/sph_contact.h); not TLSPH */
+    bool contact;
 } sph_features;
 
 void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,

@@ -25,7 +25,6 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         [FIELD_BMAT] = {"bmat", FIELD_TYPE_REAL, nsym, true},
         [FIELD_ID] = {"id", FIELD_TYPE_INT32, 1, true},
         [FIELD_BODY] = {"body", FIELD_TYPE_U8, 1, f->nbodies > 1},
-        [FIELD_POS0] = {"pos0", FIELD_TYPE_REAL, d, f->has_clamp},
         [FIELD_FIXED] = {"fixed", FIELD_TYPE_U8, 1, f->has_clamp},
         [FIELD_ACC_STRESS] = {"acc_stress", FIELD_TYPE_REAL, d, FORM_HAS_STRESS_DIV(form)},
         [FIELD_GRADV] = {"gradv", FIELD_TYPE_REAL, d * d, FORM_HAS_PENALTY(form)},
@@ -40,6 +39,9 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
          * 2D is plane strain, which adds (C_p^-1)_zz */
         [FIELD_PLASTIC_CINV] = {"plastic_cinv", FIELD_TYPE_REAL, d == 2 ? nsym + 1 : nsym,
                                 f->plastic && form == FORMULATION_TLSPH},
+        /* bodies that do not merge: the contact neighbours of each particle
+         * sit at the top of its neighbour row (device/sph_contact.h) */
+        [FIELD_CONTACT_COUNT] = {"contact_count", FIELD_TYPE_INT32, 1, f->contact},
     };
     for (int k = 0; k < FIELD_COUNT; ++k) out[k] = table[k];
 }

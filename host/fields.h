@@ -30,8 +30,7 @@ typedef enum {
     FIELD_BMAT,           /* kernel-gradient correction matrix B, symmetric */
     FIELD_ID,             /* particle id: its index in the initial set */
     FIELD_BODY,           /* body index (scenes with several bodies) */
-    FIELD_POS0,           /* initial position of fixed particles (clamp) */
-    FIELD_FIXED,          /* 1 for fixed particles (clamp) */
+    FIELD_FIXED,          /* constraint of the particle + 1 (0: free; sph_constraints.h) */
     FIELD_ACC_STRESS,     /* stress-divergence acceleration (OG, OAS, GNOG, GNOG-A) */
     FIELD_GRADV,          /* velocity gradient L, full d x d (GNOG, GNOG-A: L_j in eq. 44) */
     FIELD_ART_STRESS,     /* artificial stress R, symmetric (OAS) */
@@ -40,6 +39,7 @@ typedef enum {
     FIELD_PK1,            /* first Piola-Kirchhoff stress P, full d x d (TLSPH) */
     FIELD_DEFGRAD,        /* deformation gradient F, full d x d (TLSPH) */
     FIELD_PLASTIC_CINV,   /* plastic TLSPH: C_p^-1 - I, symmetric, then (2D) its zz component */
+    FIELD_CONTACT_COUNT,  /* contact neighbours (other bodies) of the last rebuild (contact) */
     FIELD_COUNT
 } sph_field;
 

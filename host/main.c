@@ -7,11 +7,13 @@
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
  *   sphsolid devices
+ *   sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K] [--json]
  *
  * Exit status: 0 success, 2 bad input (scene file, flags), 1 runtime failure,
  * 3 (compare) differences beyond the tolerance, 4 stopped by the instability
  * monitor (results kept, summary.json status "unstable").
  */
+#include "bandwidth.h"
 #include "compare.h"
 #include "opencl_runtime.h"
 #include "plot.h"
@@ -34,6 +36,8 @@ static void usage(FILE *f) {
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
         "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
         "       sphsolid devices\n"
+        "       sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K]\n"
+        "                          [--json]\n"
         "       sphsolid --version\n"
         "\n"
         "run       simulate a scene file (see docs/scene-format.md); results go to DIR\n"
@@ -49,6 +53,7 @@ static void usage(FILE *f) {
         "--progress-interval S seconds between progress lines when stderr is not a terminal\n"
         "--plot    write PNG plots into DIR/plots after the run (tools/plot_run.py)\n"
         "compare   per-field maximum differences of two runs' snapshots and time series\n"
+        "bandwidth the device's memory bandwidth: a streaming copy, GB/s (read + write)\n"
         "exit status: 0 success, 2 bad input, 1 runtime failure, 3 compare: beyond tolerance,\n"
         "             4 stopped by the instability monitor (results kept)\n");
 }
@@ -243,5 +248,6 @@ int main(int argc, char **argv) {
     }
     if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
     if (strcmp(argv[1], "compare") == 0) return sph_compare_main(argc - 2, argv + 2);
+    if (strcmp(argv[1], "bandwidth") == 0) return sph_bandwidth_main(argc - 2, argv + 2);
     return input_error("unknown command '%s'", argv[1]);
 }

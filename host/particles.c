@@ -133,13 +133,15 @@ static long scan_body(const sph_scene *scene, int b, const double origin[3], sph
                     out->id[n] = (int32_t)n;
                     out->body[n] = (uint8_t)b;
                     if (out->fixed) {
+                        /* the first of the body's constraints whose region
+                         * holds the particle; its index in the scene's
+                         * constraint table (sph_constraint_index) + 1 */
                         uint8_t fixed = 0;
                         for (int c = 0; c < body->nconstraints && !fixed; c++)
-                            if (body->constraints[c].type == SPH_CONSTRAINT_FIXED &&
-                                sph_shape_contains(scene, body->constraints[c].region, x))
-                                fixed = 1;
+                            if (sph_shape_contains(scene, body->constraints[c].region, x))
+                                fixed = (uint8_t)(sph_constraint_index(scene, b, c) + 1);
                         out->fixed[n] = fixed;
-                        out->fixed_count += fixed;
+                        out->fixed_count += fixed != 0;
                     }
                 }
                 n++;

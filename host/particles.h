@@ -21,13 +21,15 @@
 
 typedef struct {
     int n, dim;
-    double *pos;    /* [dim * n] */
-    double *vel;    /* [dim * n] */
-    double *mass;   /* [n]  rho0 dp^d */
-    double *rho;    /* [n]  rho0 */
-    int32_t *id;    /* [n] */
-    uint8_t *body;  /* [n]  index into scene->bodies */
-    uint8_t *fixed; /* [n]  1 inside a fixed constraint region; NULL if the scene has none */
+    double *pos;   /* [dim * n] */
+    double *vel;   /* [dim * n] */
+    double *mass;  /* [n]  rho0 dp^d */
+    double *rho;   /* [n]  rho0 */
+    int32_t *id;   /* [n] */
+    uint8_t *body; /* [n]  index into scene->bodies */
+    /* [n] 0: free; k + 1: constrained by entry k of the scene's constraint
+     * table (sph_constraint_index); NULL if the scene has no constraint */
+    uint8_t *fixed;
     int body_count[SPH_SCENE_MAX_BODIES];
     int fixed_count;
 } sph_particles;

@@ -38,6 +38,7 @@ typedef struct {
     /* the definition of every shape and its `parts` setting, for messages */
     const config_setting_t *shape_def[SPH_SCENE_MAX_SHAPES];
     const config_setting_t *shape_parts[SPH_SCENE_MAX_SHAPES];
+    int nconstraints_total; /* constraints of the bodies parsed so far */
 } loader;
 
 /* An inline table of names and its length: KEYS("a", "b") -> (names, 2). */
@@ -586,8 +587,8 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
         /* optional groups a scene may leave out are created on demand, so
          * that e.g. --set output.snapshot_interval=0 works on any scene */
         static const char *const optional_groups[] = {
-            "output",  "analysis",       "analysis.period",
-            "monitor", "monitor.domain", "method.artificial_stress"};
+            "output",  "analysis",       "analysis.period",         "monitor",
+            "contact", "monitor.domain", "method.artificial_stress"};
         for (size_t g = 0; !child && config_setting_is_group(parent) &&
                            g < sizeof optional_groups / sizeof optional_groups[0];
              ++g)
@@ -930,6 +931,86 @@ static sph_status parse_part(loader *L, const config_setting_t *e, int *out) {
                    type_name(config_setting_type(e)));
 }
 
+/* disc, ball, annulus, hollow_sphere (kind 3..6: inner <= |x - centre| <=
+ * outer) and cylinder (kind 7); the bounding box goes to lower/upper. */
+static sph_status parse_round_shape(loader *L, const config_setting_t *s,
+                                    const config_setting_t *type_at, int kind, sph_shape *sh) {
+    static const char *const names[] = {"disc", "ball", "annulus", "hollow_sphere", "cylinder"};
+    static const char *const other[] = {"ball", "disc", "hollow_sphere", "annulus", ""};
+    const int dim = L->scene->dim;
+    const int need = kind == 3 || kind == 5 ? 2 : 3;
+    if (dim != need) {
+        if (kind == 7)
+            return fail_at(L, type_at, NULL,
+                           "\"cylinder\" is a 3D shape; in 2D a rectangle is a \"box\"");
+        return fail_at(L, type_at, NULL, "\"%s\" is a %dD shape; in %dD use \"%s\"",
+                       names[kind - 3], need, dim, other[kind - 3]);
+    }
+    const bool hollow = kind == 5 || kind == 6;
+    sph_status st;
+    if (kind == 7)
+        st = check_keys(L, s, KEYS("type", "centre", "axis", "radius", "length"));
+    else if (hollow)
+        st = check_keys(L, s, KEYS("type", "centre", "inner_radius", "outer_radius"));
+    else
+        st = check_keys(L, s, KEYS("type", "centre", "radius"));
+    if (st || (st = get_vector(L, s, "centre", true, dim, sh->centre, NULL))) return st;
+    sh->type = kind == 7 ? SPH_SHAPE_CYLINDER : SPH_SHAPE_SPHERE;
+    sh->nparts = 0;
+    sh->inner_radius = 0.0;
+    sh->length = 0.0;
+    for (int a = 0; a < 3; a++) sh->axis[a] = 0.0;
+    if (hollow) {
+        const config_setting_t *outer_at;
+        if ((st = get_float(L, s, "inner_radius", true, 0, 0, true, INFINITY, false,
+                            &sh->inner_radius)) ||
+            (st = get_float(L, s, "outer_radius", true, 0, 0, true, INFINITY, false,
+                            &sh->outer_radius)) ||
+            (st = get_member(L, s, "outer_radius", true, &outer_at)))
+            return st;
+        if (!(sh->outer_radius > sh->inner_radius))
+            return fail_at(L, outer_at, NULL, "must exceed inner_radius = %g, got %g",
+                           sh->inner_radius, sh->outer_radius);
+    } else if ((st = get_float(L, s, "radius", true, 0, 0, true, INFINITY, false,
+                               &sh->outer_radius))) {
+        return st;
+    }
+    double half[3] = {sh->outer_radius, sh->outer_radius, sh->outer_radius};
+    double lo_end[3] = {0, 0, 0}, hi_end[3] = {0, 0, 0};
+    if (kind == 7) {
+        const config_setting_t *axis_at;
+        if ((st = get_vector(L, s, "axis", true, 3, sh->axis, &axis_at)) ||
+            (st = get_float(L, s, "length", true, 0, 0, true, INFINITY, false, &sh->length)))
+            return st;
+        const double norm =
+            sqrt(sh->axis[0] * sh->axis[0] + sh->axis[1] * sh->axis[1] + sh->axis[2] * sh->axis[2]);
+        if (!(norm > 0.0) || !isfinite(norm))
+            return fail_at(L, axis_at, NULL, "must be a non-zero direction, got (%g, %g, %g)",
+                           sh->axis[0], sh->axis[1], sh->axis[2]);
+        /* the box of a cylinder: the two end discs of radius R and normal a
+         * reach R sqrt(1 - a_k^2) along axis k around their centres */
+        for (int a = 0; a < 3; a++) {
+            sh->axis[a] /= norm;
+            const double end = sh->length * sh->axis[a];
+            lo_end[a] = fmin(0.0, end);
+            hi_end[a] = fmax(0.0, end);
+            half[a] = sh->outer_radius * sqrt(fmax(0.0, 1.0 - sh->axis[a] * sh->axis[a]));
+        }
+    }
+    for (int a = 0; a < 3; a++) {
+        sh->lower[a] = a < dim ? sh->centre[a] + lo_end[a] - half[a] : 0.0;
+        sh->upper[a] = a < dim ? sh->centre[a] + hi_end[a] + half[a] : 0.0;
+        if (a < dim && !(isfinite(sh->lower[a]) && isfinite(sh->upper[a])))
+            return fail_at(L, s, NULL, "the shape reaches infinity along %s", AXES[a]);
+        if (a < dim && !(sh->upper[a] > sh->lower[a]))
+            return fail_at(L, s, NULL,
+                           "the shape is too small for the precision of its coordinates along "
+                           "%s (%g to %g)",
+                           AXES[a], sh->lower[a], sh->upper[a]);
+    }
+    return SPH_OK;
+}
+
 static sph_status parse_shape(loader *L, const config_setting_t *s, int index) {
     sph_scene *sc = L->scene;
     sph_shape *sh = &sc->shapes[index];
@@ -940,10 +1021,14 @@ static sph_status parse_shape(loader *L, const config_setting_t *s, int index) {
         return fail_at(L, s, NULL, "expected a shape group { type = ...; }, got %s",
                        type_name(config_setting_type(s)));
     int type = 0;
-    sph_status st =
-        get_keyword(L, s, "type", true, 0, KEYS("box", "union", "difference"), &type, NULL);
+    const config_setting_t *type_at;
+    sph_status st = get_keyword(
+        L, s, "type", true, 0,
+        KEYS("box", "union", "difference", "disc", "ball", "annulus", "hollow_sphere", "cylinder"),
+        &type, &type_at);
     if (st) return st;
     const int dim = sc->dim;
+    if (type >= 3) return parse_round_shape(L, s, type_at, type, sh);
     if (type == 0) {
         sh->type = SPH_SHAPE_BOX;
         const config_setting_t *upper_at;
@@ -1146,6 +1231,34 @@ static int find_material(const sph_scene *sc, const char *name) {
     return -1;
 }
 
+/* `axes = ["x", "y"]`: the constrained axes of a constraint, as a bit mask;
+ * all axes when absent and not required. */
+static sph_status parse_axes(loader *L, const config_setting_t *c, bool required, int *mask) {
+    const config_setting_t *s;
+    sph_status st = get_member(L, c, "axes", required, &s);
+    if (st || !s) return st;
+    if (!config_setting_is_array(s) && !config_setting_is_list(s))
+        return fail_at(L, s, NULL, "expected an array of axes such as [\"x\"], got %s",
+                       type_name(config_setting_type(s)));
+    const int n = config_setting_length(s);
+    if (n == 0) return fail_at(L, s, NULL, "name at least one axis");
+    *mask = 0;
+    for (int k = 0; k < n; k++) {
+        const config_setting_t *e = config_setting_get_elem(s, (unsigned)k);
+        const char *v = config_setting_get_string(e);
+        int a = -1;
+        for (int d = 0; v && d < L->scene->dim; d++)
+            if (strcmp(v, AXES[d]) == 0) a = d;
+        if (a < 0)
+            return fail_at(L, e, NULL, "expected %s, got %s",
+                           L->scene->dim == 2 ? "\"x\" or \"y\"" : "\"x\", \"y\" or \"z\"",
+                           v ? v : type_name(config_setting_type(e)));
+        if (*mask & (1 << a)) return fail_at(L, e, NULL, "axis \"%s\" named twice", v);
+        *mask |= 1 << a;
+    }
+    return SPH_OK;
+}
+
 static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     sph_scene *sc = L->scene;
     sph_body *body = &sc->bodies[index];
@@ -1198,14 +1311,31 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
                            type_name(config_setting_type(c)));
         int type = 0;
         const char *region = "";
-        if ((st = check_keys(L, c, KEYS("type", "region"))) ||
-            (st = get_keyword(L, c, "type", true, 0, KEYS("fixed"), &type, NULL)) ||
-            (st = get_name(L, c, "region", &region, &at)))
-            return st;
         sph_constraint *con = &body->constraints[i];
-        con->type = SPH_CONSTRAINT_FIXED;
+        memset(con, 0, sizeof *con);
+        if ((st = get_keyword(L, c, "type", true, 0, KEYS("fixed", "fixed_axes", "velocity"), &type,
+                              NULL)))
+            return st;
+        if (type == SPH_CONSTRAINT_FIXED)
+            st = check_keys(L, c, KEYS("type", "region"));
+        else if (type == SPH_CONSTRAINT_FIXED_AXES)
+            st = check_keys(L, c, KEYS("type", "region", "axes"));
+        else
+            st = check_keys(L, c, KEYS("type", "region", "axes", "velocity"));
+        if (st || (st = get_name(L, c, "region", &region, &at))) return st;
+        con->type = (sph_constraint_type)type;
         con->region = find_named_shape(L, region);
         if (con->region < 0) return unknown_shape(L, at, region);
+        con->axis_mask = (1 << L->scene->dim) - 1;
+        if (type != SPH_CONSTRAINT_FIXED &&
+            (st = parse_axes(L, c, type == SPH_CONSTRAINT_FIXED_AXES, &con->axis_mask)))
+            return st;
+        if (type == SPH_CONSTRAINT_VELOCITY &&
+            (st = get_vector(L, c, "velocity", true, L->scene->dim, con->velocity, NULL)))
+            return st;
+        if (++L->nconstraints_total > SPH_MAX_CONSTRAINTS)
+            return fail_at(L, c, NULL, "at most %d constraints in a scene (all bodies together)",
+                           SPH_MAX_CONSTRAINTS);
     }
     body->nconstraints = nc;
     return SPH_OK;
@@ -1390,6 +1520,36 @@ static sph_status check_material_model(loader *L, const config_setting_t *root) 
     return SPH_OK;
 }
 
+/* contact = { impedance; penalty; }: bodies of a scene with several do not
+ * merge; particles of different bodies interact only by the contact force
+ * (device/sph_contact.h).  TLSPH keeps its reference neighbours and has no
+ * contact, so it runs scenes of one body. */
+static sph_status parse_contact(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    sc->contact_impedance = 1.0;
+    sc->contact_penalty = 1.0;
+    const config_setting_t *g;
+    sph_status st = get_group(L, root, "contact", false, &g);
+    if (st) return st;
+    if (sc->nbodies > 1 && sc->formulation == SPH_FORMULATION_TLSPH) {
+        const config_setting_t *method = config_setting_get_member(root, "method");
+        return fail_at(L, config_setting_get_member(method, "formulation"), NULL,
+                       "\"tlsph\" runs scenes with one body (the scene has %d): contact between "
+                       "bodies is implemented for the updated-Lagrangian formulations",
+                       sc->nbodies);
+    }
+    if (!g) return SPH_OK;
+    if (sc->nbodies < 2)
+        return fail_at(L, g, NULL,
+                       "contact acts between bodies, and the scene has one; remove the group");
+    if ((st = check_keys(L, g, KEYS("impedance", "penalty"))) ||
+        (st = get_float(L, g, "impedance", false, 1.0, 0, false, 100, false,
+                        &sc->contact_impedance)) ||
+        (st = get_float(L, g, "penalty", false, 1.0, 0, false, 100, false, &sc->contact_penalty)))
+        return st;
+    return SPH_OK;
+}
+
 /* monitor = { zigzag_threshold; min_distance_ratio; energy_growth;
  *             speed_limit; domain_margin; domain = { lower; upper; }; action; } */
 static sph_status parse_monitor(loader *L, const config_setting_t *root) {
@@ -1453,7 +1613,7 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
     if ((st = check_keys(L, root,
                          KEYS("title", "dimension", "resolution", "method", "time", "materials",
                               "shapes", "bodies", "observers", "analysis", "gravity",
-                              "lattice_origin", "output", "monitor"))))
+                              "lattice_origin", "output", "monitor", "contact"))))
         return st;
 
     const config_setting_t *at;
@@ -1476,7 +1636,7 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
         (st = parse_observers(L, root)) || (st = parse_analysis(L, root)) ||
         (st = parse_output(L, root)) || (st = parse_monitor(L, root)))
         return st;
-    if ((st = check_material_model(L, root))) return st;
+    if ((st = check_material_model(L, root)) || (st = parse_contact(L, root))) return st;
     if ((st = get_vector(L, root, "gravity", false, sc->dim, sc->gravity, NULL)) ||
         (st = get_vector(L, root, "lattice_origin", false, sc->dim, sc->lattice_origin, &at)))
         return st;
@@ -1670,6 +1830,23 @@ bool sph_shape_contains(const sph_scene *scene, int shape, const double x[3]) {
         for (int i = 1; i < sh->nparts; i++)
             if (sph_shape_contains(scene, sh->parts[i], x)) return false;
         return true;
+    case SPH_SHAPE_SPHERE: {
+        double r2 = 0.0;
+        for (int a = 0; a < scene->dim; a++) r2 += (x[a] - sh->centre[a]) * (x[a] - sh->centre[a]);
+        return r2 >= sh->inner_radius * sh->inner_radius &&
+               r2 <= sh->outer_radius * sh->outer_radius;
+    }
+    case SPH_SHAPE_CYLINDER: {
+        double d[3], s = 0.0;
+        for (int a = 0; a < 3; a++) {
+            d[a] = x[a] - sh->centre[a];
+            s += d[a] * sh->axis[a];
+        }
+        if (s < 0.0 || s > sh->length) return false;
+        double r2 = 0.0;
+        for (int a = 0; a < 3; a++) r2 += (d[a] - s * sh->axis[a]) * (d[a] - s * sh->axis[a]);
+        return r2 <= sh->outer_radius * sh->outer_radius;
+    }
     }
     return false;
 }
@@ -1678,6 +1855,9 @@ void sph_shape_bounds(const sph_scene *scene, int shape, double lower[3], double
     const sph_shape *sh = &scene->shapes[shape];
     switch (sh->type) {
     case SPH_SHAPE_BOX:
+    case SPH_SHAPE_SPHERE:
+    case SPH_SHAPE_CYLINDER:
+        /* round shapes store their bounding box (parse_round_shape) */
         for (int a = 0; a < 3; a++) lower[a] = sh->lower[a], upper[a] = sh->upper[a];
         return;
     case SPH_SHAPE_UNION:
@@ -1747,4 +1927,35 @@ const char *sph_stepping_name(sph_stepping s) {
         return "single";
     }
     return "?";
+}
+
+/* ------------------------------------------------------------------------ */
+/* the constraint table                                                      */
+/* ------------------------------------------------------------------------ */
+
+int sph_constraint_index(const sph_scene *scene, int body, int constraint) {
+    int k = 0;
+    for (int b = 0; b < body; b++) k += scene->bodies[b].nconstraints;
+    return k + constraint;
+}
+
+int sph_constraint_count(const sph_scene *scene) {
+    return sph_constraint_index(scene, scene->nbodies, 0);
+}
+
+const sph_constraint *sph_constraint_at(const sph_scene *scene, int index) {
+    for (int b = 0; b < scene->nbodies; b++) {
+        if (index < scene->bodies[b].nconstraints) return &scene->bodies[b].constraints[index];
+        index -= scene->bodies[b].nconstraints;
+    }
+    return NULL;
+}
+
+bool sph_scene_has_driven_constraint(const sph_scene *scene) {
+    for (int k = 0; k < sph_constraint_count(scene); k++) {
+        const sph_constraint *c = sph_constraint_at(scene, k);
+        for (int a = 0; a < scene->dim; a++)
+            if (c->type == SPH_CONSTRAINT_VELOCITY && c->velocity[a] != 0.0) return true;
+    }
+    return false;
 }

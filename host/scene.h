@@ -53,12 +53,24 @@ typedef enum {
     SPH_KERNEL_CUBIC_BSPLINE = 3
 } sph_kernel;
 
-typedef enum { SPH_SHAPE_BOX, SPH_SHAPE_UNION, SPH_SHAPE_DIFFERENCE } sph_shape_type;
+typedef enum {
+    SPH_SHAPE_BOX,
+    SPH_SHAPE_UNION,
+    SPH_SHAPE_DIFFERENCE,
+    /* inner_radius <= |x - centre| <= outer_radius: "disc" (2D) and "ball"
+     * (3D) with inner_radius 0, "annulus" (2D), "hollow_sphere" (3D) */
+    SPH_SHAPE_SPHERE,
+    /* 0 <= (x - centre).axis <= length and the distance from the axis <=
+     * outer_radius: "cylinder" (3D), centre = the centre of one end */
+    SPH_SHAPE_CYLINDER
+} sph_shape_type;
 typedef struct {
     sph_shape_type type;
     char name[SPH_NAME_LEN];   /* "" for a shape written inline */
     int line;                  /* source line of its definition */
     double lower[3], upper[3]; /* box corners in metres, padding applied */
+    /* round shapes: centre, radii, unit axis and length (cylinder) */
+    double centre[3], inner_radius, outer_radius, axis[3], length;
     int nparts;
     int parts[SPH_SCENE_MAX_SHAPE_PARTS]; /* indices into sph_scene.shapes */
 } sph_shape;
@@ -93,10 +105,16 @@ typedef struct {
     double yield_stress, hardening_modulus;
 } sph_material;
 
-typedef enum { SPH_CONSTRAINT_FIXED } sph_constraint_type;
+typedef enum {
+    SPH_CONSTRAINT_FIXED,      /* at rest: every axis */
+    SPH_CONSTRAINT_FIXED_AXES, /* at rest along the chosen axes (rollers, supports) */
+    SPH_CONSTRAINT_VELOCITY    /* moving at a prescribed velocity along the chosen axes */
+} sph_constraint_type;
 typedef struct {
     sph_constraint_type type;
-    int region; /* shape index */
+    int region;         /* shape index */
+    int axis_mask;      /* bit a: axis a is constrained */
+    double velocity[3]; /* prescribed velocity (0 unless SPH_CONSTRAINT_VELOCITY) */
 } sph_constraint;
 
 typedef struct {
@@ -159,6 +177,9 @@ typedef struct {
     double art_epsilon, art_exponent; /* OAS artificial stress: 0.3, 4 */
     double hourglass_alpha;           /* TLSPH hourglass control (002) */
     double riemann_limiter_slope;     /* 0: unlimited dissipation */
+    /* contact between bodies (scenes with several bodies, device/sph_contact.h):
+     * factors of the impedance term (1/2 rho0 c0 u) and of the penalty (rho0 c0^2) */
+    double contact_impedance, contact_penalty;
     double gravity[3];
 
     /* time */
@@ -212,6 +233,14 @@ void sph_scene_free(sph_scene *scene);
 /* Geometry queries on the scene's shape table. */
 bool sph_shape_contains(const sph_scene *scene, int shape, const double x[3]);
 void sph_shape_bounds(const sph_scene *scene, int shape, double lower[3], double upper[3]);
+
+/* The scene's constraints in one table, body by body: the index of body b's
+ * constraint c (at most SPH_MAX_CONSTRAINTS in all), and the entry itself. */
+int sph_constraint_index(const sph_scene *scene, int body, int constraint);
+int sph_constraint_count(const sph_scene *scene);
+const sph_constraint *sph_constraint_at(const sph_scene *scene, int index);
+/* true when a constraint prescribes a non-zero velocity (external work) */
+bool sph_scene_has_driven_constraint(const sph_scene *scene);
 
 const char *sph_formulation_name(sph_formulation f);
 const char *sph_rotation_name(sph_rotation r);

@@ -204,8 +204,24 @@ ROWS = [
         [ed("lower_pad_dp = [4.0, 4.0]", "lower_pad_dp = [-4.0, 4.0]")], marker="lower_pad_dp"),
     Row("unknown shape type", 2,
         ['{file}:{line}: shapes.plate.type: must be one of "box", "union", "difference", '
-         'got "unoin"'],
+         '"disc", "ball", "annulus", "hollow_sphere", "cylinder", got "unoin"'],
         [ed('plate = { type = "union";', 'plate = { type = "unoin";')], marker='"unoin"'),
+    Row("annulus with inner radius >= outer radius", 2,
+        ["{file}:{line}: shapes.ring.outer_radius: must exceed inner_radius = 0.02, got 0.01"],
+        [ed('plate = { type = "union";',
+            'ring = { type = "annulus"; centre = [0.0, 0.0];\n'
+            '          inner_radius = 0.02; outer_radius = 0.01; };\n'
+            '  plate = { type = "union";')], marker="outer_radius = 0.01"),
+    Row("disc of negative radius", 2,
+        ["{file}:{line}: shapes.blob.radius: must be > 0, got -0.01"],
+        [ed('plate = { type = "union";',
+            'blob = { type = "disc"; centre = [0.0, 0.0]; radius = -0.01; };\n'
+            '  plate = { type = "union";')], marker="radius = -0.01"),
+    Row("a 3D shape in 2D", 2,
+        ['{file}:{line}: shapes.blob.type: "ball" is a 3D shape; in 2D use "disc"'],
+        [ed('plate = { type = "union";',
+            'blob = { type = "ball"; centre = [0.0, 0.0]; radius = 0.01; };\n'
+            '  plate = { type = "union";')], marker='"ball"'),
     Row("unknown shape name in a union", 2,
         ["{file}:{line}: shapes.plate.parts.[1]: unknown shape 'bsae' (did you mean 'base'?)"],
         [ed('parts = ["beam", "base"]', 'parts = ["beam", "bsae"]')], marker='"bsae"'),

@@ -16,7 +16,9 @@
  *  - compile only what the scene uses: an elastic SPH-ENOG-A scene allocates
  *    no stress-divergence, velocity-gradient, artificial-stress, plastic or
  *    penalty buffer, and its OpenCL program has no third pass and no kernel
- *    argument of those features; a plastic SPH-GNOG-A scene has them.
+ *    argument of those features; a plastic SPH-GNOG-A scene has them; a
+ *    one-body scene has no contact pass, contact_count buffer or argument
+ *    (-DSPH_CONTACT=0), the two-body colliding rings have them.
  */
 #include "test_support.h"
 
@@ -157,6 +159,35 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
                 CHECK(t, third == (p == 1), "third pass compiled %s", p ? "in" : "in by mistake");
                 CHECK(t,
                       strstr(be->build_options, p ? "-DSPH_PLASTIC=1" : "-DSPH_PLASTIC=0") != NULL,
+                      "build options %s", be->build_options);
+            }
+        }
+        sph_simulation_close(&sim);
+    }
+    /* contact between bodies: only a scene with several bodies has the
+     * contact pass, its count buffer and kernel arguments (the plate above
+     * has one body; the colliding rings have two) */
+    for (int c = 0; c < 2; ++c) {
+        const char *rings[] = {"resolution.dp=0.0025", "output.snapshot_interval=0"};
+        const char *plate[] = {"time.end=0.01"};
+        sph_simulation sim;
+        sph_error err = {0};
+        const sph_status st =
+            test_run_case(c ? "colliding_rings_2d" : "oscillating_plate_2d", c ? rings : plate,
+                          c ? 2 : 1, kind, true, 5, &sim, &err);
+        CHECK(t, st == SPH_OK, "run: %s", err.msg);
+        if (st == SPH_OK) {
+            const sph_backend *be = sim.backend;
+            const char *what = c ? "two bodies" : "one body";
+            CHECK(t, has_buffer(be, "contact_count") == (c == 1), "%s: buffer contact_count %s",
+                  what, c ? "missing" : "allocated");
+            if (kind == SPH_BACKEND_OPENCL) {
+                CHECK(t, (strstr(be->program_kernels, "acoustic_contact(") != NULL) == (c == 1),
+                      "%s: contact pass %s", what, c ? "missing" : "compiled in");
+                CHECK(t, (strstr(be->program_kernels, " contact_count") != NULL) == (c == 1),
+                      "%s: kernel argument contact_count %s", what, c ? "missing" : "compiled in");
+                CHECK(t,
+                      strstr(be->build_options, c ? "-DSPH_CONTACT=1" : "-DSPH_CONTACT=0") != NULL,
                       "build options %s", be->build_options);
             }
         }

@@ -7,34 +7,16 @@
 
 #include <math.h>
 
-static double urand(unsigned *s) {
-    *s = *s * 1664525u + 1013904223u;
-    return (double)(*s >> 8) / 16777216.0;
-}
-
-static int cmp_int(const void *a, const void *b) {
-    const int x = *(const int *)a, y = *(const int *)b;
-    return (x > y) - (x < y);
-}
-
 /* cloud: n points, uniform in a box of side `extent`, plus `cluster` points
  * packed in a tiny ball (to exceed the initial neighbour capacity) */
 static void check_cloud(test_counts *t, sph_backend_kind kind, int dim, int n, double extent,
                         int cluster, const char *label) {
     const double dp = 0.01;
     sph_particles p;
-    if (test_particles_alloc(&p, n, dim, 1000.0, dp)) {
+    if (test_random_cloud(&p, n, dim, dp, extent, cluster, 2024u + (unsigned)dim)) {
         CHECK(t, 0, "allocation");
         return;
     }
-    unsigned seed = 2024u + (unsigned)dim;
-    for (int i = 0; i < n; ++i)
-        for (int a = 0; a < dim; ++a) {
-            const double x =
-                i < cluster ? 0.5 * extent + 0.5 * dp * urand(&seed) : extent * urand(&seed);
-            p.pos[(size_t)a * n + i] = x;
-            p.vel[(size_t)a * n + i] = urand(&seed) - 0.5;
-        }
     sph_features f;
     test_feature_set(&f, dim, true, SPH_ROTATION_AVERAGED);
     double prm[PRM_COUNT];
@@ -88,8 +70,8 @@ static void check_cloud(test_counts *t, sph_backend_kind kind, int dim, int n, d
         if (m > max_count) max_count = m;
         const int c = nl.count[i];
         int *got = nl.j + (size_t)i * nl.cap;
-        qsort(got, (size_t)c, sizeof(int), cmp_int);
-        qsort(brute, (size_t)m, sizeof(int), cmp_int);
+        qsort(got, (size_t)c, sizeof(int), test_cmp_int);
+        qsort(brute, (size_t)m, sizeof(int), test_cmp_int);
         if (c != m || memcmp(got, brute, (size_t)m * sizeof(int)) != 0) ++mismatched;
     }
     free(brute);

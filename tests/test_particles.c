@@ -350,6 +350,57 @@ static void test_velocity_fields(test_counts *c) {
     CHECK(c, v[0] == 0.0 && v[1] == -4.0 && v[2] == 3.0, "3D rotation");
 }
 
+/* The colliding rings of 000 §6.3 on the lattice: particle counts close to
+ * the rings' area, and the two rings mirror images of each other in x = 0
+ * particle by particle, to the round-off of the lattice coordinates, 1e-15
+ * m (the lattice spans 0.17 x 0.08 from the lower
+ * corner (-0.085, -0.04), a whole number of spacings at dp = 0.001, 0.002,
+ * 0.0025), so that the collision is symmetric to round-off. */
+static void test_rings(test_counts *c) {
+    char path[1024];
+    test_case_path("colliding_rings_2d", path, sizeof path);
+    const double dps[3] = {0.001, 0.002, 0.0025};
+    for (int k = 0; k < 3; ++k) {
+        char set[64];
+        snprintf(set, sizeof set, "resolution.dp=%g", dps[k]);
+        const char *ov[1] = {set};
+        sph_scene s;
+        sph_particles p;
+        sph_error err = {0};
+        sph_status st = sph_scene_load(&s, path, ov, 1, &err);
+        if (!st) st = sph_particles_generate(&s, &p, &err);
+        CHECK(c, st == SPH_OK, "rings at dp %g: %s", dps[k], err.msg);
+        if (st) {
+            if (s.resolved_text) sph_scene_free(&s);
+            continue;
+        }
+        const int n = p.n;
+        const double area = 3.14159265358979323846 * (0.04 * 0.04 - 0.03 * 0.03);
+        const double expected = area / (dps[k] * dps[k]);
+        long unmatched = 0;
+        for (int i = 0; i < n; ++i) {
+            if (p.body[i] != 0) continue;
+            bool found = false;
+            for (int j = 0; j < n && !found; ++j)
+                found = p.body[j] == 1 && fabs(p.pos[j] + p.pos[i]) < 1e-15 &&
+                        fabs(p.pos[n + j] - p.pos[n + i]) < 1e-15;
+            if (!found) ++unmatched;
+        }
+        printf("rings at dp %g: %d particles per ring (area / dp^2 = %.1f), %ld unmatched\n",
+               dps[k], p.body_count[0], expected, unmatched);
+        CHECK(c, p.body_count[0] == p.body_count[1] && n == 2 * p.body_count[0],
+              "dp %g: ring counts %d, %d", dps[k], p.body_count[0], p.body_count[1]);
+        /* measured 2196, 548, 364 against 2199.1, 549.8, 351.9 */
+        CHECK(c, fabs(p.body_count[0] - expected) < 0.04 * expected, "dp %g: %d particles", dps[k],
+              p.body_count[0]);
+        CHECK(c, unmatched == 0, "dp %g: %ld particles of the left ring have no mirror image",
+              dps[k], unmatched);
+        check_bookkeeping(c, &p, &s, "rings");
+        sph_particles_free(&p);
+        sph_scene_free(&s);
+    }
+}
+
 int main(void) {
     test_counts c = {0, 0};
     if (test_scene_dir_open(&tmp, "test_particles") != 0) return 2;
@@ -358,6 +409,7 @@ int main(void) {
     test_cube(&c);
     test_two_bodies(&c);
     test_velocity_fields(&c);
+    test_rings(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_particles", &c);
 }

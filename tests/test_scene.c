@@ -356,7 +356,8 @@ static const bad_row BAD[] = {
      "  d = { type = \"difference\"; parts = [\"block\"]; };\n};\nbodies", NULL,
      "%F:11: shapes.d.parts: a difference needs at least 2 parts, got 1"},
     {"bad shape type", "type = \"box\"", "type = \"sphere\"", NULL,
-     "%F:10: shapes.block.type: must be one of \"box\", \"union\", \"difference\""},
+     "%F:10: shapes.block.type: must be one of \"box\", \"union\", \"difference\", \"disc\", "
+     "\"ball\", \"annulus\", \"hollow_sphere\", \"cylinder\", got \"sphere\""},
     {"box key on a union", "};\nbodies",
      "  u = { type = \"union\"; parts = [\"block\"]; lower = [0.0, 0.0]; };\n};\nbodies", NULL,
      "%F:11: shapes.u.lower: unknown key 'lower' (valid keys here: type, parts)"},
@@ -381,6 +382,62 @@ static const bad_row BAD[] = {
      ");\nobservers = ( { name = \"p\"; position = [1.0, 0.5]; },\n"
      "  { name = \"p\"; position = [0.0, 0.5]; } );\n",
      NULL, "%F:16: observers.[1].name: duplicate observer name 'p'"},
+    /* round shapes and contact */
+    {"annulus inner >= outer", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"annulus\"; centre = [0.5, 0.5]; inner_radius = 0.4; outer_radius = 0.3;", NULL,
+     "%F:10: shapes.block.outer_radius: must exceed inner_radius = 0.4, got 0.3"},
+    {"annulus inner = 0", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"annulus\"; centre = [0.5, 0.5]; inner_radius = 0; outer_radius = 0.3;", NULL,
+     "%F:10: shapes.block.inner_radius: must be > 0, got 0"},
+    {"disc radius 0", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"disc\"; centre = [0.5, 0.5]; radius = 0.0;", NULL,
+     "%F:10: shapes.block.radius: must be > 0, got 0"},
+    {"disc radius < 0", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"disc\"; centre = [0.5, 0.5]; radius = -1;", NULL,
+     "%F:10: shapes.block.radius: must be > 0, got -1"},
+    {"disc without radius", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"disc\"; centre = [0.5, 0.5];", NULL,
+     "%F:10: shapes.block.radius: missing required key"},
+    {"disc centre of 3 numbers", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"disc\"; centre = [0.5, 0.5, 0.0]; radius = 0.5;", NULL,
+     "%F:10: shapes.block.centre: expected a vector of 2 numbers, got 3 elements"},
+    {"annulus with radius", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"annulus\"; centre = [0.5, 0.5]; radius = 0.5;", NULL,
+     "%F:10: shapes.block.radius: unknown key 'radius'"},
+    {"ball in 2D", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"ball\"; centre = [0.5, 0.5]; radius = 0.5;", NULL,
+     "%F:10: shapes.block.type: \"ball\" is a 3D shape; in 2D use \"disc\""},
+    {"hollow sphere in 2D", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"hollow_sphere\"; centre = [0.5, 0.5]; inner_radius = 0.1; outer_radius = 0.5;", NULL,
+     "%F:10: shapes.block.type: \"hollow_sphere\" is a 3D shape; in 2D use \"annulus\""},
+    {"cylinder in 2D", "type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+     "type = \"cylinder\"; centre = [0.5, 0.5]; axis = [1.0, 0.0, 0.0]; radius = 0.5; length = "
+     "1.0;",
+     NULL, "%F:10: shapes.block.type: \"cylinder\" is a 3D shape"},
+    {"contact with one body", "shape = \"block\"; }\n);\n",
+     "shape = \"block\"; }\n);\ncontact = { penalty = 2.0; };\n", NULL,
+     "%F:15: contact: contact acts between bodies, and the scene has one"},
+    {"contact penalty < 0",
+     "};\nbodies = (\n  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n);\n",
+     "  far = { type = \"disc\"; centre = [3.0, 0.5]; radius = 0.5; };\n};\nbodies = (\n"
+     "  { name = \"a\"; material = \"steel\"; shape = \"block\"; },\n"
+     "  { name = \"b\"; material = \"steel\"; shape = \"far\"; }\n);\n"
+     "contact = { penalty = -1.0; };\n",
+     NULL, "%F:17: contact.penalty: must be in [0, 100], got -1"},
+    {"contact unknown key",
+     "};\nbodies = (\n  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n);\n",
+     "  far = { type = \"disc\"; centre = [3.0, 0.5]; radius = 0.5; };\n};\nbodies = (\n"
+     "  { name = \"a\"; material = \"steel\"; shape = \"block\"; },\n"
+     "  { name = \"b\"; material = \"steel\"; shape = \"far\"; }\n);\n"
+     "contact = { friction = 0.3; };\n",
+     NULL, "%F:17: contact.friction: unknown key 'friction' (valid keys here: impedance, penalty)"},
+    {"tlsph with two bodies",
+     "};\nbodies = (\n  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n);\n",
+     "  far = { type = \"disc\"; centre = [3.0, 0.5]; radius = 0.5; };\n};\nbodies = (\n"
+     "  { name = \"a\"; material = \"steel\"; shape = \"block\"; },\n"
+     "  { name = \"b\"; material = \"steel\"; shape = \"far\"; }\n);\n",
+     "method={ formulation = \"tlsph\"; }",
+     "method.formulation: \"tlsph\" runs scenes with one body (the scene has 2)"},
     /* overrides */
     {"--set without '='", NULL, NULL, "time.end", "--set time.end: expected key=value"},
     {"--set with an empty key", NULL, NULL, "=5", "--set =5: expected key=value"},
@@ -536,6 +593,93 @@ static void test_features(test_counts *c) {
     sph_scene_free(&s);
 }
 
+/* disc, annulus (2D), ball, hollow_sphere, cylinder (3D): containment and
+ * bounding boxes, in unions and differences; the contact group. */
+static void test_round_shapes(test_counts *c) {
+    static const char text2[] =
+        "dimension = 2;\n"
+        "resolution = { dp = 0.001; };\n"
+        "method = { formulation = \"enog-a\"; };\n"
+        "time = { end = 0.01; output_interval = 0.001; };\n"
+        "materials = { r = { density = 1200; youngs_modulus = 1e7; poisson_ratio = 0.4; }; };\n"
+        "shapes = {\n"
+        "  ring = { type = \"annulus\"; centre = [-0.045, 0.0]; inner_radius = 0.03; "
+        "outer_radius = 0.04; };\n"
+        "  notched = { type = \"difference\"; parts = ( { type = \"disc\"; centre = [0.045, 0.0]; "
+        "radius = 0.04; }, { type = \"box\"; lower = [0.04, -0.005]; upper = [0.09, 0.005]; } ); "
+        "};\n"
+        "};\n"
+        "bodies = ( { name = \"a\"; material = \"r\"; shape = \"ring\"; },\n"
+        "           { name = \"b\"; material = \"r\"; shape = \"notched\"; } );\n"
+        "contact = { impedance = 0.5; penalty = 2; };\n";
+    char path[1024];
+    test_scene_write(&tmp, text2, path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "2D round shapes: %s", err.msg);
+    if (st == SPH_OK) {
+        const double ring_in[3] = {-0.045 + 0.035, 0.0, 0}, hole[3] = {-0.045, 0.0, 0},
+                     outside[3] = {-0.045, 0.0405, 0}, rim[3] = {-0.045, 0.04, 0},
+                     disc_in[3] = {0.045, 0.02, 0}, notch[3] = {0.07, 0.0, 0};
+        CHECK(c, s.shapes[0].type == SPH_SHAPE_SPHERE && s.shapes[0].inner_radius == 0.03,
+              "annulus");
+        CHECK(c,
+              sph_shape_contains(&s, 0, ring_in) && !sph_shape_contains(&s, 0, hole) &&
+                  !sph_shape_contains(&s, 0, outside) && sph_shape_contains(&s, 0, rim),
+              "annulus containment (the rim belongs to it)");
+        CHECK(c, sph_shape_contains(&s, 1, disc_in) && !sph_shape_contains(&s, 1, notch),
+              "disc minus box");
+        double lo[3], hi[3];
+        sph_shape_bounds(&s, 0, lo, hi);
+        CHECK(c, near_rel(lo[0], -0.085, 1e-14) && near_rel(hi[1], 0.04, 1e-14),
+              "annulus bounds (%g, %g)", lo[0], hi[1]);
+        CHECK(c, s.contact_impedance == 0.5 && s.contact_penalty == 2.0, "contact factors");
+        sph_scene_free(&s);
+    }
+    static const char text3[] =
+        "dimension = 3;\n"
+        "resolution = { dp = 0.01; };\n"
+        "method = { formulation = \"gnog-a\"; };\n"
+        "time = { end = 0.01; output_interval = 0.001; };\n"
+        "materials = { r = { density = 1200; youngs_modulus = 1e7; poisson_ratio = 0.4; }; };\n"
+        "shapes = {\n"
+        "  shell = { type = \"hollow_sphere\"; centre = [0.0, 0.0, 0.0]; inner_radius = 0.3; "
+        "outer_radius = 0.4; };\n"
+        "  bar = { type = \"cylinder\"; centre = [1.0, 0.0, 0.0]; axis = [0.0, 3.0, 4.0]; "
+        "radius = 0.1; length = 1.0; };\n"
+        "  solid = { type = \"union\"; parts = ( { type = \"ball\"; centre = [0.0, 2.0, 0.0]; "
+        "radius = 0.2; }, \"bar\" ); };\n"
+        "};\n"
+        "bodies = ( { name = \"a\"; material = \"r\"; shape = \"shell\"; },\n"
+        "           { name = \"b\"; material = \"r\"; shape = \"solid\"; } );\n";
+    test_scene_write(&tmp, text3, path, sizeof path);
+    st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "3D round shapes: %s", err.msg);
+    if (st == SPH_OK) {
+        const double in_shell[3] = {0.0, 0.35, 0.0}, centre[3] = {0, 0, 0},
+                     on_axis[3] = {1.0, 0.3, 0.4}, off_axis[3] = {1.0 + 0.11, 0.3, 0.4},
+                     past_end[3] = {1.0, 0.6 + 0.06, 0.8 + 0.08}, ball[3] = {0.1, 2.1, 0.1};
+        CHECK(c, sph_shape_contains(&s, 0, in_shell) && !sph_shape_contains(&s, 0, centre),
+              "hollow sphere");
+        CHECK(c,
+              sph_shape_contains(&s, 1, on_axis) && !sph_shape_contains(&s, 1, off_axis) &&
+                  !sph_shape_contains(&s, 1, past_end),
+              "cylinder (axis normalised to (0, 0.6, 0.8))");
+        CHECK(c, sph_shape_contains(&s, 2, ball) && sph_shape_contains(&s, 2, on_axis),
+              "union of a ball and the cylinder");
+        double lo[3], hi[3];
+        sph_shape_bounds(&s, 1, lo, hi);
+        /* ends (1, 0, 0) and (1, 0.6, 0.8), radius 0.1: half-widths 0.1 sqrt(1 - a_k^2) */
+        CHECK(c,
+              near_rel(lo[0], 0.9, 1e-14) && near_rel(hi[0], 1.1, 1e-14) &&
+                  near_rel(lo[1], -0.08, 1e-12) && near_rel(hi[1], 0.68, 1e-14) &&
+                  near_rel(lo[2], -0.06, 1e-12) && near_rel(hi[2], 0.86, 1e-14),
+              "cylinder bounds (%g %g %g) (%g %g %g)", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+        sph_scene_free(&s);
+    }
+}
+
 static void test_names(test_counts *c) {
     CHECK(c, strcmp(sph_formulation_name(SPH_FORMULATION_ENOG), "enog") == 0, "enog");
     CHECK(c, strcmp(sph_formulation_name(SPH_FORMULATION_ENOG_A), "enog-a") == 0, "enog-a");
@@ -552,6 +696,7 @@ int main(void) {
     test_overrides(&c);
     test_bad_inputs(&c);
     test_features(&c);
+    test_round_shapes(&c);
     test_names(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_scene", &c);

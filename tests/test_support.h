@@ -92,6 +92,34 @@ static inline int test_particles_alloc(sph_particles *p, int n, int dim, double 
     return 0;
 }
 
+/* qsort order of ints */
+static inline int test_cmp_int(const void *a, const void *b) {
+    const int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* A reproducible uniform random number in [0, 1) (LCG; *s is the state). */
+static inline double test_urand(unsigned *s) {
+    *s = *s * 1664525u + 1013904223u;
+    return (double)(*s >> 8) / 16777216.0;
+}
+
+/* A random cloud for the neighbour tests: `n` particles uniform in a box of
+ * side `extent`, the first `cluster` of them packed in a cube of side dp/2
+ * at its centre (to exceed the initial neighbour capacity); velocities
+ * uniform in [-0.5, 0.5). */
+static inline int test_random_cloud(sph_particles *p, int n, int dim, double dp, double extent,
+                                    int cluster, unsigned seed) {
+    if (test_particles_alloc(p, n, dim, 1000.0, dp)) return -1;
+    for (int i = 0; i < n; ++i)
+        for (int a = 0; a < dim; ++a) {
+            p->pos[(size_t)a * n + i] = i < cluster ? 0.5 * extent + 0.5 * dp * test_urand(&seed)
+                                                    : extent * test_urand(&seed);
+            p->vel[(size_t)a * n + i] = test_urand(&seed) - 0.5;
+        }
+    return 0;
+}
+
 /* Elastic feature set and parameter block for hand-made particle sets. */
 static inline void test_feature_set(sph_features *f, int dim, bool double_precision,
                                     sph_rotation rotation) {

@@ -79,6 +79,21 @@ static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
                 if (!isfinite(sh->lower[a]) || !isfinite(sh->upper[a]) ||
                     !(sh->lower[a] < sh->upper[a]))
                     violate(res, "shape %d: axis %d: [%g, %g]", s, a, sh->lower[a], sh->upper[a]);
+        } else if (sh->type == SPH_SHAPE_SPHERE || sh->type == SPH_SHAPE_CYLINDER) {
+            /* round shapes: positive radii, inner < outer, a unit axis, and
+             * a finite bounding box */
+            const double axis2 =
+                sh->axis[0] * sh->axis[0] + sh->axis[1] * sh->axis[1] + sh->axis[2] * sh->axis[2];
+            if (!finite_positive(sh->outer_radius) || !(sh->inner_radius >= 0.0) ||
+                !(sh->inner_radius < sh->outer_radius) ||
+                (sh->type == SPH_SHAPE_CYLINDER &&
+                 (!finite_positive(sh->length) || fabs(axis2 - 1.0) > 1e-12)))
+                violate(res, "shape %d: radii %g, %g, length %g, |axis|^2 %g", s, sh->inner_radius,
+                        sh->outer_radius, sh->length, axis2);
+            for (int a = 0; a < sc->dim; a++)
+                if (!isfinite(sh->lower[a]) || !isfinite(sh->upper[a]) ||
+                    !(sh->lower[a] < sh->upper[a]))
+                    violate(res, "shape %d: axis %d: [%g, %g]", s, a, sh->lower[a], sh->upper[a]);
         } else if (sh->nparts < 1 || sh->nparts > SPH_SCENE_MAX_SHAPE_PARTS) {
             violate(res, "shape %d: %d parts", s, sh->nparts);
         } else {

@@ -1,0 +1,30 @@
+/* sph_constraints.h — kinematic constraints, applied where a substep
+ * advances the particles (acoustic_step.cl, tl_step.cl).
+ *
+ * A constrained particle (fixed[i] = k + 1) follows entry k of the
+ * constraint table in prm (sph_constants.h): along each axis of its mask
+ * the velocity is the prescribed one (0: a clamp or a roller) and the
+ * position advances with it, x <- x + dt v, exactly (a clamp keeps its
+ * position bit for bit); along the other axes it moves with the solution.
+ * This is how the reference code imposes its clamps and supports
+ * (FixBodyPartConstraint, FixedInAxisDirection: the velocity is reset after
+ * the update); a prescribed velocity (tensile pull, punch) is the same with
+ * a non-zero value. */
+#ifndef SPH_CONSTRAINTS_H
+#define SPH_CONSTRAINTS_H
+
+#include "sph_vec.h"
+
+FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, const vec x_old,
+                         vec *x_new, vec *v_new) {
+    if (fixed == 0) return;
+    CONSTANT real *row = prm + PRM_CONSTRAINT + (fixed - 1) * PRM_CONSTRAINT_STRIDE;
+    const int mask = (int)row[0];
+    for (int a = 0; a < SPH_DIM; ++a) {
+        if (!(mask & (1 << a))) continue;
+        v_new->c[a] = row[1 + a];
+        x_new->c[a] = x_old.c[a] + dt * row[1 + a];
+    }
+}
+
+#endif

@@ -1,0 +1,548 @@
+#!/usr/bin/python3
+"""bench.py — performance benchmark of the solver (issue 5): fixed cases, wall time,
+particle-substeps per second, where the time goes (per phase, from `--profile`) and the
+memory bandwidth each phase achieves against the device's measured copy bandwidth.
+
+Cases (fixed):
+  plate     2D oscillating plate (cases/oscillating_plate_2d) at H/dp = 10, 20, 30 to t = 1 s
+  spinning  2D spinning plate (cases/spinning_plate_2d, dp = 0.05) to t = 0.5 s
+  3D plate  the (2,2)-mode plate at H/dp = 3, 5, 9 to t = 0.1 s (000 Table 4): listed as
+            "needs the 3D plate case" (no such case yet)
+
+For every case, backend (--backends cpu opencl) and precision (--precisions):
+  * a timing run (no --profile): wall time to the end time, particle-substeps per second;
+  * a profiled run (--profile): the time of every phase (rebuild, acoustic substep kernels,
+    reductions; the rest of the wall time -- host loop, output -- is the remainder), its
+    share, and the achieved bandwidth = estimated bytes the phase must move / its time,
+    against `sphsolid bandwidth` (a copy kernel / OpenMP copy on the same device).  The
+    byte model is an estimate (docs/benchmarks.md, "Bandwidth model").
+Targets (issue 5): plate H/dp = 10 to 1 s at least 3x faster than the reference code's 18.9 s
+(2 cores, native, double); H/dp = 30 to 1 s against 000 Table 2's 130.1 s on 32 cores; pocl
+within 1.5x of the native backend.
+
+Writes JSON (--json) and a Markdown table next to it (.md).  Runs are sequential; each uses
+the whole machine: timings taken on a shared machine are contaminated (--label says so).
+
+  tools/bench.py --json bench-results/bench.json
+  tools/bench.py --json /tmp/b.json --plate-ratios 5 --plate-end 0.35 --spinning-end 0.05 \\
+      --label "validation, measured under load"
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_core import (BIN, PAPER_WALL, PLATE, REFERENCE_CODE_H10_SECONDS, ROOT,  # noqa: E402
+                        environment)
+
+SPINNING = os.path.join(ROOT, "cases", "spinning_plate_2d", "scene.cfg")
+DEVICE_DIR = os.path.join(ROOT, "device")
+# 3D plate, mode (m,n) = (2,2), to t = 0.1 s: 000 Table 4 (32 cores, dual-criteria stepping)
+PAPER_3D_WALL = {3: 122.6, 5: 981.3, 9: 10629.4}
+PENDING_3D = [{"case": f"3D plate (2,2) H/dp={r}", "end_time": 0.1, "paper_32_core_s": t,
+               "status": "needs the 3D plate case (no cases/oscillating_plate_3d yet)"}
+              for r, t in PAPER_3D_WALL.items()]
+
+# ---- profile phases -> groups --------------------------------------------------------------
+GROUP_REBUILD, GROUP_SUBSTEP, GROUP_REDUCE, GROUP_OTHER = (
+    "rebuild", "acoustic substep", "reductions", "host and output (remainder)")
+REDUCTION_PHASES = {"rebuild_reduce", "substep_reduce", "diagnostics_reduce", "monitor_reduce",
+                    "reduce_finalize"}
+SUBSTEP_PHASES = {"acoustic substep", "acoustic_contact", "acoustic_pressure",
+                  "acoustic_velocity_terms", "acoustic_shear_force", "tl_deformation",
+                  "tl_acceleration", "tl_update"}
+
+
+def phase_group(name):
+    if name in REDUCTION_PHASES:
+        return GROUP_REDUCE
+    if name in SUBSTEP_PHASES:
+        return GROUP_SUBSTEP
+    return GROUP_REBUILD  # cell keys, sort, permutation, cell ranges, neighbour build
+
+
+# ---- the bandwidth model ---------------------------------------------------------------------
+# Per-slot arrays of the neighbour lists (frozen pair geometry): bytes per slot.
+SLOT_ARRAYS = ("nbr_j", "pair_e", "pair_dwv", "pair_inv_r", "pair_w")
+# Non-const arguments that a kernel only writes (counted once); every other non-const
+# argument is counted as read and written (an upper bound).  Keep in step with device/.
+WRITE_ONLY = {
+    "cell_keys": {"keys"}, "permute": {"dst"}, "cell_ranges": {"cell_start", "cell_end"},
+    "build_neighbours": {"nbr_count", "nbr_j", "pair_e", "pair_dwv", "pair_inv_r", "pair_w",
+                         "bmat", "overflow", "contact_count"},
+    "acoustic_velocity_terms": {"acc_diss", "spin", "gradv", "art_stress", "penalty_scale",
+                                "dacc_shear"},
+    "acoustic_shear_force": {"acc_stress", "dacc_shear"},
+    "tl_deformation": {"defgrad", "pk1", "rho", "tau"}, "tl_acceleration": {"acc_shear"},
+    "rebuild_reduce": {"vol", "partials"}, "substep_reduce": {"partials"},
+    "diagnostics_reduce": {"partials"}, "monitor_reduce": {"partials"},
+    "reduce_finalize": {"result"},
+}
+# Arguments a kernel does not touch with averaged rotation (003 eq. 42: the increment waits
+# in dacc_shear; a^s is rotated in acoustic_pressure).
+UNTOUCHED_AVERAGED = {"acoustic_velocity_terms": {"acc_shear"},
+                      "acoustic_shear_force": {"acc_shear"}}
+TYPE_BYTES = {"int": 4, "uint": 4, "ulong": 8, "u8": 1, "uchar": 1, "float": 4, "double": 8}
+
+
+def kernel_signatures(device_dir=DEVICE_DIR):
+    """{kernel: {arg: (const, type)}} for every global-pointer argument of every kernel in
+    device/, with the feature macros (..._PARAMS) expanded to all their definitions."""
+    text = ""
+    for name in sorted(os.listdir(device_dir)):
+        if name.endswith((".cl", ".h")):
+            with open(os.path.join(device_dir, name)) as f:
+                text += f.read() + "\n"
+    text = re.sub(r"\\\n", " ", text)
+    macros = {}
+    for m in re.finditer(r"^[ \t]*#[ \t]*define[ \t]+(\w+_PARAMS)\b(.*)$", text, re.M):
+        macros.setdefault(m.group(1), []).append(m.group(2))
+    sigs = {}
+    head = re.compile(r"\b(?:KERNEL|__kernel)\b(?:\s+__attribute__\s*\(\(.*?\)\))?\s+void\s+"
+                      r"(\w+)\s*\(")
+    arg = re.compile(r"\b(?:GLOBAL|__global)\s+(const\s+)?(\w+)\s*\*\s*(?:restrict\s+)?(\w+)")
+    for m in head.finditer(text):
+        depth, k = 1, m.end()
+        while k < len(text) and depth:
+            depth += {"(": 1, ")": -1}.get(text[k], 0)
+            k += 1
+        params = text[m.end():k - 1]
+        for _ in range(3):
+            params = re.sub(r"\b(\w+_PARAMS)\b", lambda x: " ".join(macros.get(x.group(1), [])),
+                            params)
+        args = sigs.setdefault(m.group(1), {})
+        for a in arg.finditer(params):
+            const, typ, name = bool(a.group(1)), a.group(2), a.group(3)
+            old = args.get(name)
+            args[name] = (const and (old is None or old[0]), typ)
+    if "name" in sigs:  # DEFINE_PERMUTE(permute_real, real) ...
+        for p in ("permute_real", "permute_int", "permute_u8"):
+            sigs.setdefault(p, sigs["name"])
+    return sigs
+
+
+def mean_neighbour_count(run_dir, cutoff):
+    """Mean number of neighbours (r < cutoff, self excluded) at the first snapshot, counted
+    with numpy (all particles up to 20000, else a sample of 4000); None without a snapshot."""
+    path = os.path.join(run_dir, "snapshots", "snapshot_000000.hdf")
+    try:
+        import h5py
+        import numpy as np
+        with h5py.File(path, "r") as f:
+            x = np.asarray(f["VTKHDF/Points"][...], dtype=float)
+    except (ImportError, OSError, KeyError):
+        return None
+    n = len(x)
+    rows = np.arange(n) if n <= 20000 else np.random.default_rng(1).choice(n, 4000, False)
+    total = 0
+    for s in range(0, len(rows), 1024):
+        idx = rows[s:s + 1024]
+        d2 = ((x[idx, None, :] - x[None, :, :]) ** 2).sum(axis=2)
+        total += int(((d2 < cutoff * cutoff) & (d2 > 0)).sum())
+    return total / len(rows)
+
+
+INT_FIELDS, U8_FIELDS = ("id", "contact_count"), ("fixed", "body")  # host/fields.c
+
+
+def buffer_sizes(summary):
+    """Bytes per particle of each particle field (the arrays the rebuild permutes) and the
+    sizes of the other buffers, from summary.json's memory records: OpenCL records a field
+    and its reorder copy separately, the native backend as one record of twice the size (and
+    its neighbour lists as one record, sized here from the slot layout instead)."""
+    n = summary["particle_count"]
+    recs = {r["name"]: r["bytes"] for r in summary["memory"]["buffers"]}
+    if summary["backend"] == "cpu":
+        fields = {k: v / n / 2 for k, v in recs.items() if not k.startswith("neighbour lists")}
+        return fields, {}
+    copies = {k[:-len(" (reorder copy)")] for k in recs if k.endswith(" (reorder copy)")}
+    fields = {k: recs[k] / n for k in copies if k in recs}
+    other = {k: v for k, v in recs.items() if k not in copies and not k.endswith(")")}
+    return fields, other
+
+
+def bandwidth_model(summary, neighbours, sigs):
+    """Estimated bytes moved per call of each profiled phase: {phase: (bytes_per_call, note)}."""
+    n = summary["particle_count"]
+    dim = summary["features"]["dimension"]
+    real = 8 if summary["precision"] == "double" else 4
+    averaged = summary["features"]["rotation"] == "averaged"
+    fields, other = buffer_sizes(summary)
+    slot_bytes = {"nbr_j": 4, "pair_e": dim * real, "pair_dwv": real, "pair_inv_r": real,
+                  "pair_w": real}
+    tlsph = summary["features"]["formulation"] == "tlsph"
+    kernels_here = None
+    if summary.get("program_kernels"):
+        kernels_here = {k.split("(")[0]: [a.strip() for a in k.split("(", 1)[1].rstrip(")")
+                                          .split(",")] for k in summary["program_kernels"]}
+    keys_bytes = other.get("keys", 8 * n)
+    cell_bytes = {c: other.get(c, 4 * n) for c in ("cell_start", "cell_end")}
+
+    def arg_bytes(kernel, name, typ):
+        if name in fields:
+            return fields[name] * n
+        if name in SLOT_ARRAYS:
+            if name == "pair_w" and not tlsph:
+                return 0.0
+            return n * neighbours * slot_bytes[name]
+        if name == "keys":
+            return keys_bytes
+        if name in cell_bytes:
+            return cell_bytes[name]
+        if name == "nbr_count":
+            return other.get(name, 4 * n)
+        return other.get(name, 0.0)
+
+    def kernel_bytes(kernel):
+        args = sigs.get(kernel, {})
+        present = kernels_here.get(kernel) if kernels_here else None
+        total = 0.0
+        for name, (const, typ) in args.items():
+            if present is not None and name not in present:
+                continue
+            if averaged and name in UNTOUCHED_AVERAGED.get(kernel, ()):
+                continue
+            b = arg_bytes(kernel, name, typ)
+            total += b if const or name in WRITE_ONLY.get(kernel, ()) else 2 * b
+        return total
+
+    def permute_bytes(kinds):
+        # one launch per field per rebuild: keys + field read (gathered) + field written
+        return sum(keys_bytes + 2 * fields[f] * n for f in fields if field_kind(f) in kinds)
+
+    def field_kind(f):
+        return "int" if f in INT_FIELDS else "u8" if f in U8_FIELDS else "real"
+
+    model = {}
+    prof = {p["phase"]: p for p in summary.get("profile", [])}
+    rebuilds = max(prof.get("build_neighbours", {}).get("calls", 1), 1)
+    for phase, p in prof.items():
+        calls = max(p["calls"], 1)
+        if phase.startswith("permute_"):
+            kind = phase.split("_", 1)[1]
+            model[phase] = (permute_bytes({kind}) * rebuilds / calls,
+                            f"keys + {kind} fields gathered and written")
+        elif phase == "cell sort and permutation":  # native: keys, counting sort, permute
+            sort = 3 * keys_bytes + 2 * (cell_bytes["cell_start"] + cell_bytes["cell_end"])
+            model[phase] = (kernel_bytes("cell_keys") + sort + permute_bytes(
+                {"real", "int", "u8"}), "cell keys, counting sort, permutation of every field")
+        elif phase.startswith("bitonic"):
+            model[phase] = (2 * keys_bytes, "keys read and written")
+        elif phase == "acoustic substep":  # native: the substep kernels fused in one phase
+            if tlsph:
+                ks = ["tl_deformation", "tl_acceleration", "tl_update"]
+            else:
+                ks = ["acoustic_pressure", "acoustic_velocity_terms"]
+                if summary["formulation"] in ("og", "oas", "gnog", "gnog-a"):
+                    ks.append("acoustic_shear_force")
+                if "contact_count" in fields:
+                    ks.insert(0, "acoustic_contact")
+            ks.append("substep_reduce")
+            model[phase] = (sum(kernel_bytes(k) for k in ks), " + ".join(ks))
+        elif phase in sigs:
+            model[phase] = (kernel_bytes(phase), "kernel arguments")
+        else:
+            model[phase] = (None, "no model")
+    return model
+
+
+# ---- running -------------------------------------------------------------------------------
+def loadavg():
+    try:
+        return float(open("/proc/loadavg").read().split()[0])
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def full_environment():
+    """bench_core.environment() plus whether the tree is modified, the load and the binary."""
+    env = environment()
+    env["dirty"] = bool(subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
+                                       cwd=ROOT, capture_output=True, text=True).stdout.strip())
+    env["load_average_start"] = loadavg()
+    env["sphsolid"] = BIN
+    return env
+
+
+def run_case(scene, sets, backend, device, precision, out, profile):
+    cmd = [BIN, "run", scene, "--quiet", "--out", out, "--backend", backend,
+           "--precision", precision]
+    if device is not None and backend == "opencl":
+        cmd += ["--device", str(device)]
+    for s in sets:
+        cmd += ["--set", s]
+    if profile:
+        cmd.append("--profile")
+    before = loadavg()
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode not in (0, 4):
+        sys.exit(f"bench: {' '.join(cmd)} failed ({p.returncode}): {p.stderr}")
+    with open(os.path.join(out, "summary.json")) as f:
+        s = json.load(f)
+    s["_load"] = {"before": before, "after": loadavg()}
+    return s
+
+
+def peak_bandwidth(backend, device, size_mb):
+    cmd = [BIN, "bandwidth", "--backend", backend, "--json", "--size-mb", str(size_mb)]
+    if device is not None and backend == "opencl":
+        cmd += ["--device", str(device)]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"bench: {' '.join(cmd)} failed ({p.returncode}): {p.stderr}")
+    return json.loads(p.stdout)
+
+
+def analyse(timing, prof, sigs, peak):
+    """One result row: timing-run figures, and the profiled run's phases and groups."""
+    cutoff = prof["resolved"]["cutoff"]
+    nbrs = prof.get("_neighbours")
+    model = bandwidth_model(prof, nbrs, sigs) if nbrs else {}
+    wall = prof["wall_time_s"]
+    peak_gbs = peak["best_gbs"] if peak else None
+    phases, groups = [], {}
+    for p in prof.get("profile", []):
+        per_call, note = model.get(p["phase"], (None, "no snapshot for the neighbour count"))
+        b = per_call * p["calls"] if per_call is not None else None
+        row = {"phase": p["phase"], "group": phase_group(p["phase"]), "calls": p["calls"],
+               "seconds": p["seconds"], "share": p["seconds"] / wall, "bytes": b,
+               "model": note}
+        row["gbs"] = b / p["seconds"] / 1e9 if b is not None and p["seconds"] > 0 else None
+        row["fraction_of_peak"] = row["gbs"] / peak_gbs if row["gbs"] and peak_gbs else None
+        phases.append(row)
+        g = groups.setdefault(row["group"], {"group": row["group"], "seconds": 0.0, "bytes": 0.0})
+        g["seconds"] += p["seconds"]
+        g["bytes"] = None if g["bytes"] is None or b is None else g["bytes"] + b
+    profiled = sum(g["seconds"] for g in groups.values())
+    groups[GROUP_OTHER] = {"group": GROUP_OTHER, "seconds": max(wall - profiled, 0.0),
+                           "bytes": None}
+    order = [GROUP_REBUILD, GROUP_SUBSTEP, GROUP_REDUCE, GROUP_OTHER]
+    glist = []
+    for name in order:
+        if name not in groups:
+            continue
+        g = groups[name]
+        g["share"] = g["seconds"] / wall
+        g["gbs"] = g["bytes"] / g["seconds"] / 1e9 if g["bytes"] and g["seconds"] > 0 else None
+        g["fraction_of_peak"] = g["gbs"] / peak_gbs if g["gbs"] and peak_gbs else None
+        glist.append(g)
+    return {
+        "device": timing["device"], "particles": timing["particle_count"],
+        "acoustic_steps": timing["acoustic_steps"], "advection_steps": timing["advection_steps"],
+        "wall_time_s": timing["wall_time_s"], "setup_time_s": timing.get("setup_time_s"),
+        "particle_substeps_per_second": timing["particle_substeps_per_second"],
+        "first_period": timing["metrics"].get("first_period"),
+        "max_angular_momentum_error": timing["metrics"].get("max_angular_momentum_error"),
+        "status": timing.get("status"),
+        "load_average": {"timing_run": timing["_load"], "profiled_run": prof["_load"]},
+        "profiled_run": {"wall_time_s": wall, "cutoff": cutoff, "mean_neighbours": nbrs,
+                         "phases": phases, "groups": glist},
+    }
+
+
+def targets(rows, plate_end):
+    out = []
+
+    def find(case, backend, precision="double"):
+        return next((r for r in rows if r["case"] == case and r["backend"] == backend and
+                     r["precision"] == precision), None)
+    r10 = find("plate H/dp=10", "cpu")
+    if r10 and plate_end == 1.0:
+        x = REFERENCE_CODE_H10_SECONDS / r10["wall_time_s"]
+        out.append({"target": "plate H/dp = 10 to 1 s, native double: >= 3x faster than the "
+                              f"reference code's {REFERENCE_CODE_H10_SECONDS} s (2 cores)",
+                    "measured_s": r10["wall_time_s"], "speedup": x, "met": x >= 3.0})
+    else:
+        out.append({"target": "plate H/dp = 10 to 1 s vs the reference code's 18.9 s",
+                    "met": None, "note": "not run (needs H/dp = 10, native, double, t = 1 s)"})
+    r30 = find("plate H/dp=30", "cpu")
+    if r30 and plate_end == 1.0:
+        paper = PAPER_WALL[30]["dual"]
+        out.append({"target": f"plate H/dp = 30 to 1 s vs 000 Table 2: {paper} s on 32 cores",
+                    "measured_s": r30["wall_time_s"], "ratio_to_paper": r30["wall_time_s"] / paper,
+                    "met": r30["wall_time_s"] <= paper})
+    else:
+        out.append({"target": "plate H/dp = 30 to 1 s vs 000 Table 2 (130.1 s, 32 cores)",
+                    "met": None, "note": "not run (needs H/dp = 30, native, double, t = 1 s)"})
+    for r in rows:
+        if r["backend"] != "opencl":
+            continue
+        native = find(r["case"], "cpu", r["precision"])
+        if not native:
+            continue
+        ratio = r["wall_time_s"] / native["wall_time_s"]
+        cpu_device = "Portable Computing Language" in r["device"] or "pthread" in r["device"]
+        out.append({"target": f"{r['case']}, {r['precision']}: OpenCL "
+                              f"{'(pocl) within 1.5x of' if cpu_device else 'against'} native",
+                    "opencl_s": r["wall_time_s"], "native_s": native["wall_time_s"],
+                    "ratio": ratio, "met": ratio <= 1.5 if cpu_device else None})
+    return out
+
+
+def fmt(x, spec=".1f", none="–"):
+    return none if x is None else format(x, spec)
+
+
+def markdown(result):
+    lines = []
+    label = result.get("label")
+    env = result["environment"]
+    lines.append(f"Benchmark `tools/bench.py`, {env['date']}, commit {env.get('commit', '?')}"
+                 f"{' (modified tree)' if env.get('dirty') else ''}, host {env['machine']} "
+                 f"({env['cpu']}, {env['cores']} cores), OMP_WAIT_POLICY "
+                 f"{env['omp_wait_policy']}." + (f" **{label}.**" if label else ""))
+    lines.append("")
+    def device(p):
+        if not p["opencl_version"]:
+            return p["device"]
+        return f"{p['device']}, {p['opencl_version']}, driver {p['driver_version']}"
+    lines.append("Peak (copy, read + write counted, `sphsolid bandwidth`): " + "; ".join(
+        f"{b}: {p['best_gbs']:.1f} GB/s ({device(p)})"
+        for b, p in result["peak_bandwidth"].items()))
+    lines.append("")
+    lines.append("| case | end (s) | backend | precision | particles | acoustic / advection steps "
+                 "| wall (s) | M particle-substeps/s | rebuild | acoustic substep | reductions "
+                 "| host and output |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in result["cases"]:
+        shares = {g["group"]: g["share"] for g in r["profiled_run"]["groups"]}
+        lines.append(
+            f"| {r['case']} | {r['end_time']:g} | {r['backend']} | {r['precision']} | "
+            f"{r['particles']} | {r['acoustic_steps']} / {r['advection_steps']} | "
+            f"{r['wall_time_s']:.2f} | {r['particle_substeps_per_second'] / 1e6:.2f} | " +
+            " | ".join(fmt(100 * shares[g] if g in shares else None, ".0f") + " %"
+                       for g in (GROUP_REBUILD, GROUP_SUBSTEP, GROUP_REDUCE, GROUP_OTHER)) + " |")
+    for p in result["pending"]:
+        lines.append(f"| {p['case']} | {p['end_time']:g} | | | | | {p['status']}; paper "
+                     f"{p['paper_32_core_s']} s on 32 cores | | | | | |")
+    lines.append("")
+    lines.append("Shares are of the profiled run's wall time (profiling serialises the OpenCL "
+                 "queue). Achieved bandwidth = estimated bytes / phase time (an estimate: "
+                 "docs/benchmarks.md, \"Bandwidth model\"):")
+    lines.append("")
+    lines.append("| case | backend | precision | phase | calls | time (s) | share | est. MB moved "
+                 "| GB/s | % of copy peak |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|")
+    for r in result["cases"]:
+        pr = r["profiled_run"]
+        items = [(g["group"], "", g) for g in pr["groups"]] + \
+                [(p["phase"], p["calls"], p) for p in pr["phases"]]
+        for name, calls, g in items:
+            bold = "**" if calls == "" else ""
+            lines.append(
+                f"| {r['case']} | {r['backend']} | {r['precision']} | {bold}{name}{bold} | "
+                f"{calls} | {g['seconds']:.3f} | {100 * g['share']:.1f} % | "
+                f"{fmt(g['bytes'] / 1e6 if g['bytes'] else None, '.0f')} | "
+                f"{fmt(g['gbs'], '.2f')} | "
+                f"{fmt(100 * g['fraction_of_peak'] if g['fraction_of_peak'] else None, '.0f')} |")
+    lines.append("")
+    lines.append("| target | measured | met |")
+    lines.append("|---|---|---|")
+    for t in result["targets"]:
+        if "speedup" in t:
+            m = f"{t['measured_s']:.2f} s ({t['speedup']:.2f}x faster)"
+        elif "ratio_to_paper" in t:
+            m = f"{t['measured_s']:.1f} s ({t['ratio_to_paper']:.2f}x the paper's time)"
+        elif "ratio" in t:
+            m = f"{t['opencl_s']:.2f} s vs {t['native_s']:.2f} s ({t['ratio']:.2f}x)"
+        else:
+            m = t.get("note", "")
+        met = {True: "yes", False: "**no**", None: "–"}[t["met"]]
+        lines.append(f"| {t['target']} | {m} | {met} |")
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--json", required=True, help="output JSON file (Markdown next to it)")
+    ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"], choices=["cpu", "opencl"])
+    ap.add_argument("--device", type=int, default=None, help="OpenCL device (sphsolid devices)")
+    ap.add_argument("--precisions", nargs="+", default=["double"], choices=["double", "single"])
+    ap.add_argument("--plate-ratios", type=float, nargs="*", default=[10, 20, 30],
+                    help="plate H/dp values (default 10 20 30; none: skip the plate)")
+    ap.add_argument("--plate-end", type=float, default=1.0, help="plate end time (default 1 s)")
+    ap.add_argument("--spinning-end", type=float, default=0.5,
+                    help="spinning plate end time (default 0.5 s; 0: skip)")
+    ap.add_argument("--single-run", action="store_true",
+                    help="take the wall time from the profiled run (no separate timing run; "
+                         "profiling slows OpenCL)")
+    ap.add_argument("--bandwidth-mb", type=float, default=256,
+                    help="MiB per buffer of the peak copy (default 256)")
+    ap.add_argument("--label", default="",
+                    help="a note stored with the results, e.g. \"measured under load\"")
+    ap.add_argument("--keep", default=None, help="keep the run directories here")
+    args = ap.parse_args()
+
+    env = full_environment()
+    if env["omp_wait_policy"].lower() == "passive":
+        print("bench: OMP_WAIT_POLICY=passive: the native backend runs scenes below 4096 "
+              "particles on one thread", file=sys.stderr)
+    sigs = kernel_signatures()
+    peak = {b: peak_bandwidth(b, args.device, args.bandwidth_mb) for b in args.backends}
+    for b, p in peak.items():
+        print(f"peak {b}: {p['best_gbs']:.2f} GB/s ({p['device']})", flush=True)
+
+    cases = [(f"plate H/dp={r:g}", PLATE, [f"resolution.ratio={r:g}", f"time.end={args.plate_end}"],
+              args.plate_end) for r in args.plate_ratios]
+    if args.spinning_end > 0:
+        cases.append(("spinning plate dp=0.05", SPINNING, [f"time.end={args.spinning_end}"],
+                      args.spinning_end))
+    rows = []
+    tmp = args.keep or tempfile.mkdtemp(prefix="sphsolid-bench-")
+    try:
+        for case, scene, sets, end in cases:
+            for precision in args.precisions:
+                for backend in args.backends:
+                    tag = re.sub(r"[^A-Za-z0-9.=-]+", "_", f"{case}-{backend}-{precision}")
+                    prof = run_case(scene, sets, backend, args.device, precision,
+                                    os.path.join(tmp, tag + "-profile"), True)
+                    prof["_neighbours"] = mean_neighbour_count(os.path.join(tmp, tag + "-profile"),
+                                                               prof["resolved"]["cutoff"])
+                    timing = prof if args.single_run else run_case(
+                        scene, sets, backend, args.device, precision,
+                        os.path.join(tmp, tag + "-timing"), False)
+                    row = {"case": case, "end_time": end, "backend": backend,
+                           "precision": precision, "formulation": timing["formulation"],
+                           "timing_from_profiled_run": args.single_run}
+                    row.update(analyse(timing, prof, sigs, peak.get(backend)))
+                    rows.append(row)
+                    shares = ", ".join(f"{g['group']} {100 * g['share']:.0f} %"
+                                       for g in row["profiled_run"]["groups"])
+                    print(f"{case} {backend} {precision}: {row['wall_time_s']:.2f} s, "
+                          f"{row['particle_substeps_per_second'] / 1e6:.2f} M particle-substeps/s "
+                          f"({shares})", flush=True)
+    finally:
+        if not args.keep:
+            import shutil
+            shutil.rmtree(tmp, ignore_errors=True)
+    env["load_average_end"] = loadavg()
+    result = {"benchmark": "bench", "label": args.label, "environment": env,
+              "peak_bandwidth": peak,
+              "bandwidth_model": "estimated bytes a phase must move: every global buffer "
+                                 "argument of its kernels once per call (n x bytes per "
+                                 "particle; neighbour-list arrays n x mean neighbours x bytes "
+                                 "per slot), read-only arguments once, written-only once, "
+                                 "read-and-written twice; neighbour gathers assumed to hit "
+                                 "cache (docs/benchmarks.md)",
+              "cases": rows, "pending": PENDING_3D,
+              "targets": targets(rows, args.plate_end)}
+    result["markdown"] = markdown(result)
+    print("\n" + result["markdown"])
+    os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
+    with open(args.json + ".partial", "w") as f:
+        json.dump(result, f, indent=2)
+    os.replace(args.json + ".partial", args.json)
+    md = os.path.splitext(args.json)[0] + ".md"
+    with open(md + ".partial", "w") as f:
+        f.write(result["markdown"] + "\n")
+    os.replace(md + ".partial", md)
+    print(f"\nwrote {args.json} and {md}")
+
+
+if __name__ == "__main__":
+    main()

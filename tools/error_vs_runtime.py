@@ -1,0 +1,340 @@
+#!/usr/bin/python3
+"""error_vs_runtime.py — accuracy against cost (issue 5): for each formulation, precision and
+backend, a resolution ladder of the 2D plate and of the 2D spinning plate; error against wall
+time, as CSV, JSON and a log-log PNG.
+
+  plate     cases/oscillating_plate_2d at H/dp = 5, 8, 10, 15, 20, 30 (--ratios) to t = 0.35 s
+            (the first period needs ~0.29 s): error of `first_period` against thin-plate
+            theory, 0.25406 s (003 eq. 52, bench_core.thin_plate_period), and against the
+            finest run of the same formulation, precision and backend
+  spinning  cases/spinning_plate_2d at dp = 0.1, 0.05, 0.025 (--dps) to t = 0.5 s: the
+            maximum angular-momentum error max |L(t) - L(0)| / |L(0)|
+
+Wall time is plotted per simulated second (wall_time_s / end time), so runs to 0.35 s and the
+public reference code's measured run (2D plate H/dp = 10, GNOG-A, 18.9 s to t = 1 s on 2 cores,
+first period 0.2874 s: its second zero crossing; reference notes §11) share one axis.
+--reference-run adds, for each method, the H/dp = 10 plate run to t = 1 s (native backend only),
+the like-for-like point, which checks that scaling.
+
+Runs are cached: each has its own directory under --work (default runs/error-vs-runtime); a run
+whose summary.json exists is not run again, so an interrupted ladder continues where it
+stopped, and --no-run only collects and plots what exists (labelled partial when runs of the
+requested grid are missing).  Cheap runs go first.
+
+  tools/error_vs_runtime.py                                # the full grid
+  tools/error_vs_runtime.py --formulations enog-a --precisions double --ratios 5 8 \\
+      --dps 0.1 --label "validation, measured under load" --png /tmp/e.png --csv /tmp/e.csv
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import textwrap
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_core import (BIN, PLATE, REFERENCE_CODE_H10_SECONDS, ROOT, ROTATING,  # noqa: E402
+                        thin_plate_period)
+from bench import SPINNING, full_environment, loadavg  # noqa: E402
+
+FORMULATIONS = ["enog-a", "gnog-a", "enog", "oas"]
+THEORY = thin_plate_period(0.3975)  # 0.25406 s, the plate's nu
+# The public reference code (SPHinXsys, GNOG-A, per-particle rotation), H/dp = 10,
+# v_f = 0.05, t = 1 s on an idle 2-core machine: zero crossings 0.1434, 0.2874, ... s
+# (reference notes §11); its first period by our definition (second zero crossing)
+REFERENCE_FIRST_PERIOD = 0.2874
+LABELS = {"enog-a": "SPH-ENOG-A", "gnog-a": "SPH-GNOG-A", "enog": "SPH-ENOG", "oas": "SPH-OAS"}
+COLOURS = {"enog-a": "tab:blue", "gnog-a": "tab:orange", "enog": "tab:green", "oas": "tab:red"}
+
+
+def method_sets(form):
+    rotation = "averaged" if form in ROTATING else "none"
+    return [f"method.formulation={form}", f"method.rotation={rotation}",
+            "monitor.action=report", "output.snapshot_interval=0"]
+
+
+def plan(args):
+    """Every requested run: (key fields, scene, --set list, run directory)."""
+    runs = []
+    for form in args.formulations:
+        for prec in args.precisions:
+            for be in args.backends:
+                for r in args.ratios:
+                    runs.append({"case": "plate", "formulation": form, "precision": prec,
+                                 "backend": be, "resolution": r, "end_time": args.plate_end,
+                                 "scene": PLATE,
+                                 "sets": [f"resolution.ratio={r:g}",
+                                          f"time.end={args.plate_end:g}"] + method_sets(form)})
+                if args.reference_run and be == "cpu":
+                    runs.append({"case": "plate", "formulation": form, "precision": prec,
+                                 "backend": be, "resolution": 10.0, "end_time": 1.0,
+                                 "scene": PLATE, "reference_run": True,
+                                 "sets": ["resolution.ratio=10", "time.end=1"] +
+                                 method_sets(form)})
+                for dp in args.dps:
+                    runs.append({"case": "spinning", "formulation": form, "precision": prec,
+                                 "backend": be, "resolution": dp, "end_time": args.spinning_end,
+                                 "scene": SPINNING,
+                                 "sets": [f"resolution.dp={dp:g}",
+                                          f"time.end={args.spinning_end:g}"] + method_sets(form)})
+    for r in runs:
+        name = (f"{r['case']}-{r['formulation']}-{r['precision']}-{r['backend']}-"
+                f"{'r' if r['case'] == 'plate' else 'dp'}{r['resolution']:g}-t{r['end_time']:g}")
+        r["dir"] = os.path.join(args.work, re.sub(r"[^A-Za-z0-9.=-]+", "_", name))
+
+    # cheap first: particle count grows as ratio^2 (plate) and dp^-2 (spinning); OpenCL after
+    def cost(r):
+        n = r["resolution"] ** 2 * 16 if r["case"] == "plate" else 1.0 / r["resolution"] ** 2
+        return (n * r["end_time"] * (4 if r["backend"] == "opencl" else 1), r["dir"])
+    return sorted(runs, key=cost)
+
+
+def execute(r, device):
+    cmd = [BIN, "run", r["scene"], "--quiet", "--out", r["dir"], "--backend", r["backend"],
+           "--precision", r["precision"]]
+    if device is not None and r["backend"] == "opencl":
+        cmd += ["--device", str(device)]
+    for s in r["sets"]:
+        cmd += ["--set", s]
+    before = loadavg()
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    meta = {"command": cmd, "exit_status": p.returncode, "stderr": p.stderr[-2000:],
+            "load_average": {"before": before, "after": loadavg()}}
+    os.makedirs(r["dir"], exist_ok=True)
+    with open(os.path.join(r["dir"], "error-vs-runtime.json"), "w") as f:
+        json.dump(meta, f, indent=2)
+    if p.returncode not in (0, 4):
+        print(f"error_vs_runtime: {' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}",
+              file=sys.stderr)
+    return p.returncode
+
+
+def collect(r):
+    """The run's row, or None when it has no summary.json."""
+    path = os.path.join(r["dir"], "summary.json")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        s = json.load(f)
+    meta = {}
+    if os.path.exists(os.path.join(r["dir"], "error-vs-runtime.json")):
+        with open(os.path.join(r["dir"], "error-vs-runtime.json")) as f:
+            meta = json.load(f)
+    m = s["metrics"]
+    ins = s.get("instability")
+    load = meta.get("load_average", {})
+    return {"case": r["case"], "formulation": r["formulation"], "precision": r["precision"],
+            "backend": r["backend"], "resolution": r["resolution"],
+            "reference_run": r.get("reference_run", False),
+            "particles": s["particle_count"], "end_time": s["simulated_time"],
+            "wall_time_s": s["wall_time_s"],
+            "wall_per_simulated_s": s["wall_time_s"] / s["simulated_time"],
+            "acoustic_steps": s["acoustic_steps"], "first_period": m.get("first_period"),
+            "period_error_theory": None, "period_error_finest": None,
+            # (the clamped plate's L is not conserved: only the spinning plate's is an error)
+            "max_angular_momentum_error": (m.get("max_angular_momentum_error")
+                                           if r["case"] == "spinning" else None),
+            "status": s.get("status"),
+            "monitor": (f"{ins['quantity']} {ins['value']:.3g} at t = {ins['time']:.3g} s"
+                        if ins else "quiet"),
+            "device": s["device"], "load_before": load.get("before"),
+            "load_after": load.get("after"), "run_dir": shown_path(r["dir"])}
+
+
+def shown_path(path):
+    """Relative to the repository when inside it, else absolute."""
+    path = os.path.abspath(path)
+    return os.path.relpath(path, ROOT) if path.startswith(ROOT + os.sep) else path
+
+
+def add_errors(rows):
+    for row in rows:
+        if row["case"] == "plate" and row["first_period"] is not None:
+            row["period_error_theory"] = abs(row["first_period"] - THEORY) / THEORY
+    groups = {}
+    for row in rows:
+        if row["case"] == "plate" and not row["reference_run"] and row["first_period"]:
+            groups.setdefault((row["formulation"], row["precision"], row["backend"]),
+                              []).append(row)
+    for members in groups.values():
+        finest = max(members, key=lambda x: x["resolution"])
+        for row in members:
+            row["finest_resolution"] = finest["resolution"]
+            row["period_error_finest"] = (abs(row["first_period"] - finest["first_period"]) /
+                                          finest["first_period"])
+    for row in rows:  # the 1-s runs: same first period as the ladder's run at that H/dp
+        if row["reference_run"]:
+            for m in groups.get((row["formulation"], row["precision"], row["backend"]), []):
+                if m["resolution"] == row["resolution"]:
+                    row["period_error_finest"] = m["period_error_finest"]
+
+
+def minor_label(v, _):
+    """Label the minor log ticks at 2, 3 and 5 times a power of ten."""
+    if v <= 0:
+        return ""
+    mantissa = v / 10 ** math.floor(math.log10(v) + 1e-9)
+    return f"{v:.2g}" if round(mantissa) in (2, 3, 5) and abs(mantissa - round(mantissa)) < 0.01 \
+        else ""
+
+
+def plot(rows, png, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter
+    fig, axes = plt.subplots(1, 3, figsize=(17, 7))
+    panels = [("plate", "period_error_theory",
+               f"plate: first-period error vs thin-plate theory ({THEORY:.5f} s)"),
+              ("plate", "period_error_finest", "plate: first-period error vs the finest run"),
+              ("spinning", "max_angular_momentum_error",
+               "spinning plate: max angular-momentum error")]
+    for ax, (case, key, heading) in zip(axes, panels):
+        series = {}
+        for row in rows:
+            if row["case"] == case and row[key] and not row["reference_run"]:
+                series.setdefault((row["formulation"], row["precision"], row["backend"]),
+                                  []).append(row)
+        for (form, prec, be), pts in sorted(series.items()):
+            pts.sort(key=lambda x: x["wall_per_simulated_s"])
+            ax.loglog([p["wall_per_simulated_s"] for p in pts], [p[key] for p in pts],
+                      color=COLOURS.get(form, "k"), linestyle="-" if be == "cpu" else "--",
+                      marker="o" if prec == "double" else "s",
+                      fillstyle="full" if prec == "double" else "none",
+                      label=f"{LABELS.get(form, form)}, {prec}, {be}")
+            for p in pts:
+                res = f"{p['resolution']:g}"
+                ax.annotate(res, (p["wall_per_simulated_s"], p[key]), fontsize=7,
+                            textcoords="offset points", xytext=(3, 3), color="0.35")
+        for row in rows:
+            if row["case"] == case and row["reference_run"] and row[key]:
+                ax.loglog([row["wall_per_simulated_s"]], [row[key]], marker="*", markersize=11,
+                          linestyle="none", color=COLOURS.get(row["formulation"], "k"),
+                          label=f"{LABELS.get(row['formulation'])}, H/dp = 10 to t = 1 s, "
+                                f"{row['precision']}, {row['backend']}")
+        if key == "period_error_theory":
+            err = abs(REFERENCE_FIRST_PERIOD - THEORY) / THEORY
+            ax.loglog([REFERENCE_CODE_H10_SECONDS], [err], marker="X", markersize=11,
+                      linestyle="none", color="k",
+                      label=f"reference code (GNOG-A, H/dp = 10, {REFERENCE_CODE_H10_SECONDS} s "
+                            f"to t = 1 s, 2 cores)")
+        ylo, yhi = ax.get_ylim()
+        if yhi < 4 * ylo:  # at least a factor of 4 in view, readable tick labels
+            mid = (ylo * yhi) ** 0.5
+            ax.set_ylim(mid / 2, mid * 2)
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
+            axis.set_minor_formatter(FuncFormatter(minor_label))
+        ax.set_title(heading, fontsize=10)
+        ax.set_xlabel("wall time per simulated second (s)")
+        ax.set_ylabel("relative error")
+        ax.grid(True, which="both", alpha=0.3)
+    handles = {}
+    for ax in axes:  # one legend for the three panels, below them
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    ncol = 4
+    rows_needed = max(1, -(-len(handles) // ncol))
+    bottom = 0.06 + 0.035 * rows_needed
+    if handles:
+        fig.legend(list(handles.values()), list(handles.keys()), loc="lower center", ncol=ncol,
+                   fontsize=8, frameon=False)
+    fig.suptitle("\n".join(textwrap.wrap(title, 170)), fontsize=10)
+    fig.tight_layout(rect=(0, bottom, 1, 0.95))
+    os.makedirs(os.path.dirname(os.path.abspath(png)), exist_ok=True)
+    fig.savefig(png + ".partial.png", dpi=110)
+    os.replace(png + ".partial.png", png)
+
+
+COLUMNS = ["case", "formulation", "precision", "backend", "resolution", "reference_run",
+           "particles", "end_time", "wall_time_s", "wall_per_simulated_s", "acoustic_steps",
+           "first_period", "period_error_theory", "finest_resolution", "period_error_finest",
+           "max_angular_momentum_error", "status", "monitor", "device", "load_before",
+           "load_after", "run_dir"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--formulations", nargs="+", default=FORMULATIONS, choices=FORMULATIONS)
+    ap.add_argument("--precisions", nargs="+", default=["double", "single"],
+                    choices=["double", "single"])
+    ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"], choices=["cpu", "opencl"])
+    ap.add_argument("--device", type=int, default=None, help="OpenCL device (sphsolid devices)")
+    ap.add_argument("--ratios", type=float, nargs="*", default=[5, 8, 10, 15, 20, 30],
+                    help="plate H/dp ladder (none: skip the plate)")
+    ap.add_argument("--plate-end", type=float, default=0.35, help="plate end time (0.35 s)")
+    ap.add_argument("--dps", type=float, nargs="*", default=[0.1, 0.05, 0.025],
+                    help="spinning plate dp ladder (none: skip it)")
+    ap.add_argument("--spinning-end", type=float, default=0.5,
+                    help="spinning plate end time (0.5 s)")
+    ap.add_argument("--reference-run", action="store_true",
+                    help="also run the plate at H/dp = 10 to t = 1 s (native backend)")
+    ap.add_argument("--work", default=os.path.join(ROOT, "runs", "error-vs-runtime"),
+                    help="run directories (cache; default runs/error-vs-runtime)")
+    ap.add_argument("--no-run", action="store_true", help="only collect existing runs and plot")
+    ap.add_argument("--csv", default=os.path.join(ROOT, "bench-results", "error-vs-runtime.csv"))
+    ap.add_argument("--png", default=os.path.join(ROOT, "docs", "error-vs-runtime.png"))
+    ap.add_argument("--label", default="", help="a note for the plot title and the JSON, e.g. "
+                                                "\"measured under load\"")
+    args = ap.parse_args()
+
+    runs = plan(args)
+    done = 0
+    for k, r in enumerate(runs):
+        if os.path.exists(os.path.join(r["dir"], "summary.json")):
+            done += 1
+            continue
+        if args.no_run:
+            continue
+        print(f"[{k + 1}/{len(runs)}] {os.path.basename(r['dir'])}", flush=True)
+        if execute(r, args.device) in (0, 4):
+            done += 1
+    rows = [row for row in (collect(r) for r in runs) if row]
+    add_errors(rows)
+    missing = len(runs) - len(rows)
+
+    os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
+    with open(args.csv + ".partial", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
+        w.writeheader()
+        for row in rows:
+            w.writerow({k: ("" if row.get(k) is None else row.get(k)) for k in COLUMNS})
+    os.replace(args.csv + ".partial", args.csv)
+    env = full_environment()
+    result = {"benchmark": "error_vs_runtime", "label": args.label, "environment": env,
+              "theory_first_period": THEORY, "requested_runs": len(runs), "runs": len(rows),
+              "reference_code": {"wall_time_to_1s": REFERENCE_CODE_H10_SECONDS,
+                                 "first_period": REFERENCE_FIRST_PERIOD, "H/dp": 10},
+              "rows": rows}
+    jpath = os.path.splitext(args.csv)[0] + ".json"
+    with open(jpath + ".partial", "w") as f:
+        json.dump(result, f, indent=2)
+    os.replace(jpath + ".partial", jpath)
+
+    title = (f"error against wall time, {env['date'][:10]}, commit {env.get('commit', '?')}, "
+             f"{env['cpu']} ({env['cores']} cores), OMP_WAIT_POLICY {env['omp_wait_policy']}")
+    if missing:
+        title += f" — PARTIAL: {len(rows)} of {len(runs)} runs"
+    if args.label:
+        title += f" — {args.label}"
+    plot(rows, args.png, title)
+
+    for row in rows:
+        err = (row["period_error_theory"] if row["case"] == "plate"
+               else row["max_angular_momentum_error"])
+        fine = row["period_error_finest"]
+        err_s = "" if err is None else f"{100 * err:.2f} %"
+        fine_s = "" if fine is None else f" (vs finest {100 * fine:.2f} %)"
+        print(f"{row['case']:8s} {row['formulation']:6s} {row['precision']:6s} "
+              f"{row['backend']:6s} {row['resolution']:<6g} t={row['end_time']:<5g} "
+              f"wall {row['wall_time_s']:8.2f} s ({row['wall_per_simulated_s']:8.2f} s/s) "
+              f"error {err_s}{fine_s} {row['monitor']}")
+    print(f"\nwrote {args.csv}, {jpath} and {args.png} ({len(rows)} of {len(runs)} runs)")
+
+
+if __name__ == "__main__":
+    main()
