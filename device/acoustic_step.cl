@@ -58,8 +58,10 @@
 #endif
 #if SPH_HAS_CLAMP
 #    define CLAMP_PARAMS , GLOBAL const u8 *restrict fixed
+#    define CLAMP_ARG    fixed
 #else
 #    define CLAMP_PARAMS
+#    define CLAMP_ARG 0
 #endif
 /* buffers of the stress-divergence formulations (OG, OAS, GNOG, GNOG-A) */
 #if SPH_HAS_STRESS_DIV
@@ -190,17 +192,7 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real 
     /* stress divergence of the last substep (000 eq. 17, 003 eq. 45) */
     if (PRESENT(acc_stress)) a_s = vec_add(a_s, vec_load(acc_stress, n, i));
 #endif
-    const vec v_old = vec_load(vel, n, i);
-    vec acc = vec_add(a_p, a_s);
-    for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
-    vec v_new = vec_axpy(v_old, dt, acc);
-    const vec x_old = vec_load(pos, n, i);
-    vec x_new = vec_axpy(x_old, half_dt, vec_add(v_old, v_new));
-#if SPH_HAS_CLAMP
-    if (PRESENT(fixed)) apply_constraint(prm, fixed[i], dt, x_old, &x_new, &v_new);
-#endif
-    vec_store(vel, n, i, v_new);
-    vec_store(pos, n, i, x_new);
+    verlet_advance(prm, n, i, dt, vec_add(a_p, a_s), pos, vel, CLAMP_ARG);
 }
 
 KERNEL void

@@ -27,4 +27,25 @@ FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, con
     }
 }
 
+/* The particle update of an acoustic substep, shared by the updated- and
+ * total-Lagrangian schemes: position Verlet (000 eqs. 27-29) with gravity,
+ *     v <- v + dt (a + g),   x <- x + dt/2 (v_old + v_new),
+ * then the particle's constraint.  `fixed` is absent (0) in scenes without
+ * constraints. */
+FN void verlet_advance(CONSTANT real *prm, const int n, const int i, const real dt, vec acc,
+                       GLOBAL real *pos, GLOBAL real *vel, GLOBAL const u8 *fixed) {
+    for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
+    const vec v_old = vec_load(vel, n, i);
+    vec v_new = vec_axpy(v_old, dt, acc);
+    const vec x_old = vec_load(pos, n, i);
+    vec x_new = vec_axpy(x_old, R(0.5) * dt, vec_add(v_old, v_new));
+#if SPH_HAS_CLAMP
+    if (PRESENT(fixed)) apply_constraint(prm, fixed[i], dt, x_old, &x_new, &v_new);
+#else
+    (void)fixed;
+#endif
+    vec_store(vel, n, i, v_new);
+    vec_store(pos, n, i, x_new);
+}
+
 #endif

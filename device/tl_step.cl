@@ -78,8 +78,10 @@
 
 #    if SPH_HAS_CLAMP
 #        define TL_CLAMP_PARAMS , GLOBAL const u8 *restrict fixed
+#        define TL_CLAMP_ARG    fixed
 #    else
 #        define TL_CLAMP_PARAMS
+#        define TL_CLAMP_ARG 0
 #    endif
 #    if SPH_HAS_TL_PLASTICITY
 #        define TL_PLASTIC_STATE_PARAMS                                                            \
@@ -291,18 +293,7 @@ KERNEL void tl_update(ITEM_PARAM const int n, const real dt, CONSTANT real *prm,
                       GLOBAL real *restrict vel TL_CLAMP_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    const real half_dt = R(0.5) * dt;
-    vec acc = vec_load(acc_shear, n, i);
-    for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
-    const vec v_old = vec_load(vel, n, i);
-    vec v_new = vec_axpy(v_old, dt, acc);
-    const vec x_old = vec_load(pos, n, i);
-    vec x_new = vec_axpy(x_old, half_dt, vec_add(v_old, v_new));
-#    if SPH_HAS_CLAMP
-    if (PRESENT(fixed)) apply_constraint(prm, fixed[i], dt, x_old, &x_new, &v_new);
-#    endif
-    vec_store(vel, n, i, v_new);
-    vec_store(pos, n, i, x_new);
+    verlet_advance(prm, n, i, dt, vec_load(acc_shear, n, i), pos, vel, TL_CLAMP_ARG);
 }
 
 #endif

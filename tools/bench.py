@@ -264,7 +264,9 @@ def full_environment():
     env["dirty"] = bool(subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
                                        cwd=ROOT, capture_output=True, text=True).stdout.strip())
     env["load_average_start"] = loadavg()
-    env["sphsolid"] = BIN
+    # the binary relative to the repository (no path of the measuring machine)
+    rel = os.path.relpath(os.path.abspath(BIN), ROOT)
+    env["sphsolid"] = rel if not rel.startswith("..") else os.path.basename(BIN)
     return env
 
 
