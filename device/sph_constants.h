@@ -60,7 +60,14 @@
 #define PRM_CONSTRAINT        (PRM_BODY_COUNT + SPH_MAX_BODIES)
 #define PRM_CONSTRAINT_STRIDE 4
 #define SPH_MAX_CONSTRAINTS   16
-#define PRM_COUNT             (PRM_CONSTRAINT + SPH_MAX_CONSTRAINTS * PRM_CONSTRAINT_STRIDE)
+/* the wall table (device/sph_wall.h): PRM_WALL_COUNT walls, wall w holds
+ * PRM_WALL_STRIDE values from PRM_WALL + w * stride: a point of its plane
+ * (3 values) and its unit normal into the solid (3 values) */
+#define PRM_WALL_COUNT  25
+#define PRM_WALL        (PRM_CONSTRAINT + SPH_MAX_CONSTRAINTS * PRM_CONSTRAINT_STRIDE)
+#define PRM_WALL_STRIDE 6
+#define SPH_MAX_WALLS   6
+#define PRM_COUNT       (PRM_WALL + SPH_MAX_WALLS * PRM_WALL_STRIDE)
 
 /* Layout of the instability monitor's reduction (device/monitor.cl), all
  * components combined by max. */

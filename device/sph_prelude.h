@@ -19,6 +19,7 @@
  *                    same-body pairs, and different bodies interact only by
  *                    the contact force (sph_contact.h); scenes with several
  *                    bodies (updated-Lagrangian formulations)
+ *   SPH_WALLS        number of rigid walls (sph_wall.h), 0 without
  *   SPH_NBR_ROW_MAJOR 1: pair slot (i,k) at i*cap+k (CPU caches);
  *                     0: at k*n+i (coalesced on GPUs)
  *   SPH_WG           work-group size of the reduction kernels
@@ -70,6 +71,8 @@ typedef float real;
 #    define SPH_HAS_TL_PLASTICITY (SPH_HAS_TLSPH && SPH_PLASTIC)
 /* separate bodies with contact between them (sph_contact.h) */
 #    define SPH_HAS_CONTACT SPH_CONTACT
+/* rigid walls (sph_wall.h) */
+#    define SPH_HAS_WALLS (SPH_WALLS > 0)
 typedef uchar u8;
 #    define ATOMIC_MAX_INT(p, v) atomic_max((p), (v))
 #    define REAL_LOWEST          (-INFINITY)
@@ -107,6 +110,7 @@ typedef float real;
 
 #    define SPH_HAS_TL_PLASTICITY 1
 #    define SPH_HAS_CONTACT       1
+#    define SPH_HAS_WALLS         1
 #    ifndef SPH_HAS_CLAMP
 #        define SPH_HAS_CLAMP 1
 #    endif

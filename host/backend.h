@@ -108,6 +108,10 @@ struct sph_backend {
     sph_features features;
     sph_field_info fields[FIELD_COUNT];
     int n;
+    /* the next rebuild freezes the pair geometry at x + geometry_shift v:
+     * half the interval it serves (device/neighbour_build.cl); 0 unless the
+     * solver sets it */
+    double geometry_shift;
     int nbuffers;
     sph_buffer_record buffers[SPH_MAX_BUFFER_RECORDS];
     bool profiling;

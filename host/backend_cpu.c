@@ -215,13 +215,13 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         c->cells_allocated = grid.ncells;
     }
     t0 = phase_start(be);
-    c->k->cell_keys(&c->b, &grid);
+    c->k->cell_keys(&c->b, &grid, be->geometry_shift);
     sort_by_cell(c, grid.ncells);
     permute_fields(be, c);
     phase_end(be, "cell sort and permutation", t0);
     for (;;) {
         t0 = phase_start(be);
-        const int needed = c->k->build_neighbours(&c->b, &grid);
+        const int needed = c->k->build_neighbours(&c->b, &grid, be->geometry_shift);
         phase_end(be, "build_neighbours", t0);
         if (needed == 0) break;
         st = alloc_pairs(be, c, needed + needed / 4 + 2, err);

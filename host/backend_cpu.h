@@ -34,9 +34,11 @@ typedef struct {
     bool double_precision;
     /* V = m/rho; out: -min x (dim), max x (dim), max |v|^2, max 4h|a| */
     void (*rebuild_reduce)(cpu_buffers *b, double *out);
-    void (*cell_keys)(cpu_buffers *b, const sph_grid *g);
+    /* keys of the cells of x + geometry_shift v (neighbour_build.cl) */
+    void (*cell_keys)(cpu_buffers *b, const sph_grid *g, double geometry_shift);
     /* returns the largest neighbour count when it exceeds cap, else 0 */
-    int (*build_neighbours)(cpu_buffers *b, const sph_grid *g);
+    /* the pair geometry at x + geometry_shift v (neighbour_build.cl) */
+    int (*build_neighbours)(cpu_buffers *b, const sph_grid *g, double geometry_shift);
     void (*substep)(cpu_buffers *b, double dt, double *max_speed2);
     /* kinetic, strain, momentum (dim), angular (1 or 3) */
     void (*diagnostics)(cpu_buffers *b, double *out);
@@ -51,6 +53,8 @@ typedef struct {
     /* physics probes for unit tests and observers */
     double (*kernel_w)(const double *prm, double r);
     double (*kernel_dw)(const double *prm, double r);
+    /* the kernel integrated over a plane at the distance d (sph_wall.h) */
+    double (*wall_plane_kernel)(const double *prm, double d);
     /* Rodrigues matrix (row-major dim x dim) of spin components w over dt */
     void (*rodrigues)(const double *w, double dt, double *rot);
     /* pair terms of sph_riemann.h for states i, j (vectors of length dim) */

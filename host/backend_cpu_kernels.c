@@ -65,27 +65,27 @@ static void store_grid(cpu_buffers *b, const sph_grid *g) {
     geom[GRID_INV_CELL] = (real)(1.0 / g->cell);
 }
 
-static void cell_keys_impl(cpu_buffers *b, const sph_grid *g) {
+static void cell_keys_impl(cpu_buffers *b, const sph_grid *g, double geometry_shift) {
     store_grid(b, g);
     const int n = b->n;
 #pragma omp parallel for schedule(static) if (b->parallel)
     for (int i = 0; i < n; ++i)
-        cell_keys(i, n, n, F_REAL(b, FIELD_POS), (const real *)b->grid_geom, g->dims[0], g->dims[1],
-                  g->dims[2], b->keys);
+        cell_keys(i, n, n, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), (real)geometry_shift,
+                  (const real *)b->grid_geom, g->dims[0], g->dims[1], g->dims[2], b->keys);
 }
 
-static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g) {
+static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g, double geometry_shift) {
     store_grid(b, g);
     const int n = b->n;
     int overflow = 0;
 #pragma omp parallel for schedule(static) if (b->parallel)
     for (int i = 0; i < n; ++i)
-        build_neighbours(i, n, b->cap, (const real *)b->prm, F_REAL(b, FIELD_POS),
-                         F_REAL(b, FIELD_VOL), (const real *)b->grid_geom, g->dims[0], g->dims[1],
-                         g->dims[2], b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
-                         (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r,
-                         F_REAL(b, FIELD_BMAT), &overflow, (real *)b->pair_w, F_U8(b, FIELD_BODY),
-                         F_INT(b, FIELD_CONTACT_COUNT));
+        build_neighbours(
+            i, n, b->cap, (const real *)b->prm, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+            (real)geometry_shift, F_REAL(b, FIELD_VOL), g->dims[0], g->dims[1], g->dims[2],
+            (const ulong *)b->keys, b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
+            (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r, F_REAL(b, FIELD_BMAT),
+            &overflow, (real *)b->pair_w, F_U8(b, FIELD_BODY), F_INT(b, FIELD_CONTACT_COUNT));
     return overflow;
 }
 
@@ -241,6 +241,11 @@ static double probe_kernel_dw(const double *prm_in, double r) {
     params_to_real(prm_in, prm);
     return (double)kernel_dw(prm, (real)r);
 }
+static double probe_wall_plane_kernel(const double *prm_in, double d) {
+    real prm[PRM_COUNT];
+    params_to_real(prm_in, prm);
+    return (double)wall_plane_kernel(prm, (real)d);
+}
 static void probe_rodrigues(const double *w_in, double dt, double *rot) {
     real w[NSPIN];
     for (int a = 0; a < NSPIN; ++a) w[a] = (real)w_in[a];
@@ -392,6 +397,7 @@ const cpu_kernels CPU_VARIANT = {
     .monitor_particle = MONITOR_PARTICLE,
     .kernel_w = probe_kernel_w,
     .kernel_dw = probe_kernel_dw,
+    .wall_plane_kernel = probe_wall_plane_kernel,
     .rodrigues = probe_rodrigues,
     .riemann_pair = probe_riemann_pair,
     .stress_output = stress_output_impl,

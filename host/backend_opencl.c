@@ -417,7 +417,9 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     o->gz = grid.dims[2];
     double geom[4] = {grid.origin[0], grid.origin[1], grid.origin[2], 1.0 / grid.cell};
     st = write_reals(o, o->grid_geom, geom, 4, err);
-    if (!st) st = launch(o, &o->k.cell_keys, (size_t)o->npad, o->wg, NULL, 0, err);
+    real_scalar shift_s;
+    const sph_cl_arg shift_arg = real_arg(o, "geometry_shift", &shift_s, be->geometry_shift);
+    if (!st) st = launch(o, &o->k.cell_keys, (size_t)o->npad, o->wg, &shift_arg, 1, err);
     if (!st) st = sort_keys(o, err);
     if (!st) st = permute_fields(be, o, err);
     if (st) return st;
@@ -435,7 +437,7 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         st = cl_check(clEnqueueFillBuffer(o->queue, o->overflow, &zero, sizeof zero, 0,
                                           sizeof(cl_int), 0, NULL, NULL),
                       "clearing the overflow flag", err);
-        if (!st) st = launch(o, &o->k.build, (size_t)be->n, o->wg, NULL, 0, err);
+        if (!st) st = launch(o, &o->k.build, (size_t)be->n, o->wg, &shift_arg, 1, err);
         if (!st)
             st = cl_check(clEnqueueReadBuffer(o->queue, o->overflow, CL_TRUE, 0, sizeof needed,
                                               &needed, 0, NULL, NULL),

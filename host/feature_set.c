@@ -21,6 +21,7 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
     /* bodies do not merge: they meet through the contact force (TLSPH runs
      * one body, scene.c) */
     out->contact = scene->nbodies > 1 && scene->formulation != SPH_FORMULATION_TLSPH;
+    out->walls = scene->nwalls;
     for (int b = 0; b < scene->nbodies; ++b)
         if (scene->materials[scene->bodies[b].material].plastic) out->plastic = true;
 }
@@ -30,10 +31,10 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
     snprintf(buf, len,
              "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
-             "-DSPH_CONTACT=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
+             "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
              f->dim, f->double_precision ? 1 : 0, (int)f->kernel, (int)f->formulation,
              f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0, f->nbodies,
-             f->contact ? 1 : 0, nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
+             f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
 }
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
@@ -92,6 +93,15 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
         double *row = prm + PRM_CONSTRAINT + k * PRM_CONSTRAINT_STRIDE;
         row[0] = (double)c->axis_mask;
         for (int a = 0; a < scene->dim; ++a) row[1 + a] = c->velocity[a];
+    }
+    /* the wall table (device/sph_wall.h) */
+    prm[PRM_WALL_COUNT] = (double)scene->nwalls;
+    for (int w = 0; w < scene->nwalls && w < SPH_MAX_WALLS; ++w) {
+        double *row = prm + PRM_WALL + w * PRM_WALL_STRIDE;
+        for (int a = 0; a < scene->dim; ++a) {
+            row[a] = scene->walls[w].point[a];
+            row[3 + a] = scene->walls[w].normal[a];
+        }
     }
     /* W(dp) normalises the artificial-stress weight f = W(r)/W(dp) */
     prm[PRM_ART_WDP] = cpu_kernels_for(f->dim, true)->kernel_w(prm, scene->dp);

@@ -29,6 +29,7 @@ typedef struct {
     /* several bodies that do not merge: same-body neighbour lists and the
      * contact force between bodies (device/sph_contact.h); not TLSPH */
     bool contact;
+    int walls; /* rigid walls (device/sph_wall.h) */
 } sph_features;
 
 void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,

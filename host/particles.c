@@ -52,6 +52,13 @@ void sph_velocity_field_eval(const sph_scene *scene, const sph_body *body, const
         }
         break;
     }
+    case SPH_VELOCITY_PLATE_MODE: {
+        /* 000 eq. 35 */
+        const double pi = 3.14159265358979323846;
+        v[f->axis] = f->amplitude * sin(f->modes[0] * pi * (x[0] - f->lower[0]) / f->size[0]) *
+                     sin(f->modes[1] * pi * (x[1] - f->lower[1]) / f->size[1]);
+        break;
+    }
     }
 }
 
@@ -319,6 +326,30 @@ sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sp
 
     long start = 0;
     for (int b = 0; b < scene->nbodies; b++) start += scan_body(scene, b, origin, out, start, NULL);
+
+    /* a body may touch a wall (its particles' cells end on the wall's
+     * surface, centres dp/2 in front) but not cross it */
+    for (int w = 0; w < scene->nwalls; w++) {
+        const sph_wall *wall = &scene->walls[w];
+        for (size_t i = 0; i < n; i++) {
+            double d = 0.0;
+            for (int a = 0; a < dim; a++)
+                d += (out->pos[(size_t)a * n + i] - wall->point[a]) * wall->normal[a];
+            if (d >= 0.5 * scene->dp * (1.0 - 1e-9)) continue;
+            double x[3] = {0, 0, 0};
+            for (int a = 0; a < dim; a++) x[a] = out->pos[(size_t)a * n + i];
+            char point[96];
+            format_point(x, dim, point, sizeof point);
+            const sph_body *body = &scene->bodies[out->body[i]];
+            sph_particles_free(out);
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s: wall '%s' cuts body '%s' (%s): its particle at %s lies %g from "
+                            "the wall's surface, less than dp/2 = %g in front of it; a body may "
+                            "touch a wall but not cross it",
+                            wall->where, wall->name, body->name, body->where, point, d,
+                            0.5 * scene->dp);
+        }
+    }
 
     /* extreme but finite inputs can overflow the initial velocity (a rigid
      * rotation far from its centre, a cantilever mode with a large kl) or the

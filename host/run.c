@@ -210,6 +210,7 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(features, "clamp", json_object_new_boolean(f->has_clamp));
     json_object_object_add(features, "bodies", json_object_new_int(f->nbodies));
     json_object_object_add(features, "contact", json_object_new_boolean(f->contact));
+    json_object_object_add(features, "walls", json_object_new_int(f->walls));
     json_object_object_add(features, "precision",
                            json_object_new_string(f->double_precision ? "double" : "single"));
     json_object_object_add(features, "stepping",

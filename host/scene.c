@@ -810,9 +810,10 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g;
     sph_status st = get_group(L, root, "time", true, &g);
-    if (st || (st = check_keys(L, g,
-                               KEYS("end", "output_interval", "stepping", "cfl_advection",
-                                    "cfl_acoustic", "reference_speed", "acceleration_criterion"))))
+    if (st ||
+        (st = check_keys(L, g,
+                         KEYS("end", "output_interval", "stepping", "cfl_advection", "cfl_acoustic",
+                              "reference_speed", "acceleration_criterion", "frozen_geometry"))))
         return st;
     if ((st = get_float(L, g, "end", true, 0, 0, true, INFINITY, false, &sc->end_time)) ||
         (st = get_float(L, g, "output_interval", true, 0, 0, true, INFINITY, false,
@@ -834,6 +835,11 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
     if ((st = get_float(L, g, "reference_speed", false, 0.0, 0, false, INFINITY, false,
                         &sc->reference_speed)))
         return st;
+    int geometry = 0;
+    if ((st = get_keyword(L, g, "frozen_geometry", false, 0, KEYS("midpoint", "start"), &geometry,
+                          NULL)))
+        return st;
+    sc->geometry_at_start = geometry == 1;
     return get_bool(L, g, "acceleration_criterion", true, &sc->acceleration_criterion);
 }
 
@@ -1181,9 +1187,9 @@ static sph_status parse_shapes(loader *L, const config_setting_t *root) {
 static sph_status parse_velocity(loader *L, const config_setting_t *g, sph_velocity_field *v) {
     const int dim = L->scene->dim;
     int type = 0;
-    sph_status st =
-        get_keyword(L, g, "type", true, 0,
-                    KEYS("zero", "uniform", "rigid_rotation", "cantilever_mode"), &type, NULL);
+    sph_status st = get_keyword(
+        L, g, "type", true, 0,
+        KEYS("zero", "uniform", "rigid_rotation", "cantilever_mode", "plate_mode"), &type, NULL);
     if (st) return st;
     v->type = (sph_velocity_type)type;
     switch (v->type) {
@@ -1221,6 +1227,34 @@ static sph_status parse_velocity(loader *L, const config_setting_t *g, sph_veloc
                             &v->clamp_x)))
             return st;
         return get_axis(L, g, "axis", false, 1, &v->axis);
+    case SPH_VELOCITY_PLATE_MODE: {
+        /* 000 eq. 35: a mode of the simply supported plate (3D) */
+        const config_setting_t *at = config_setting_get_member(g, "type");
+        if (dim != 3)
+            return fail_at(L, at, NULL,
+                           "\"plate_mode\" is a 3D velocity field (a plate "
+                           "in the x-y plane moving along z)");
+        double lower[3] = {0, 0, 0}, size[3] = {0, 0, 0}, modes[3] = {0, 0, 0};
+        const config_setting_t *ls, *ss, *ms;
+        if ((st = check_keys(L, g, KEYS("type", "amplitude", "lower", "size", "modes", "axis"))) ||
+            (st = get_float(L, g, "amplitude", true, 0, -INFINITY, false, INFINITY, false,
+                            &v->amplitude)) ||
+            (st = get_member(L, g, "lower", true, &ls)) || (st = as_vector(L, ls, 2, lower)) ||
+            (st = get_member(L, g, "size", true, &ss)) || (st = as_vector(L, ss, 2, size)) ||
+            (st = get_member(L, g, "modes", true, &ms)) || (st = as_vector(L, ms, 2, modes)))
+            return st;
+        for (int a = 0; a < 2; ++a) {
+            if (!(size[a] > 0.0))
+                return fail_at(L, ss, NULL, "the plate's sides must be > 0, got %g", size[a]);
+            if (!(modes[a] >= 1.0 && modes[a] <= 1000.0 && modes[a] == floor(modes[a])))
+                return fail_at(L, ms, NULL, "mode numbers are integers from 1 to 1000, got %g",
+                               modes[a]);
+            v->lower[a] = lower[a];
+            v->size[a] = size[a];
+            v->modes[a] = (int)modes[a];
+        }
+        return get_axis(L, g, "axis", false, 2, &v->axis);
+    }
     }
     return SPH_OK;
 }
@@ -1520,9 +1554,58 @@ static sph_status check_material_model(loader *L, const config_setting_t *root) 
     return SPH_OK;
 }
 
+/* walls = ( { name; point; normal; }, ... ): rigid frictionless planes
+ * (device/sph_wall.h), the solid on the side the normal points to. */
+static sph_status parse_walls(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *list;
+    sph_status st = get_list(L, root, "walls", false, &list);
+    if (st || !list) return st;
+    const int n = config_setting_length(list);
+    if (n > SPH_SCENE_MAX_WALLS)
+        return fail_at(L, list, NULL, "at most %d walls, got %d", SPH_SCENE_MAX_WALLS, n);
+    if (sc->formulation == SPH_FORMULATION_TLSPH) {
+        const config_setting_t *method = config_setting_get_member(root, "method");
+        return fail_at(L, config_setting_get_member(method, "formulation"), NULL,
+                       "\"tlsph\" has no wall contact; walls are implemented for the "
+                       "updated-Lagrangian formulations");
+    }
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *w = config_setting_get_elem(list, (unsigned)i), *at;
+        if (!config_setting_is_group(w))
+            return fail_at(L, w, NULL, "expected a wall group { name; point; normal; }, got %s",
+                           type_name(config_setting_type(w)));
+        const char *name = "";
+        sph_wall *wall = &sc->walls[i];
+        if ((st = check_keys(L, w, KEYS("name", "point", "normal"))) ||
+            (st = get_name(L, w, "name", &name, &at)))
+            return st;
+        for (int k = 0; k < i; k++)
+            if (strcmp(sc->walls[k].name, name) == 0)
+                return fail_at(L, at, NULL, "duplicate wall name '%s' (walls.[%d] has it too)",
+                               name, k);
+        snprintf(wall->name, sizeof wall->name, "%s", name);
+        where_of(L, w, wall->where, sizeof wall->where);
+        if ((st = get_vector(L, w, "point", true, sc->dim, wall->point, NULL)) ||
+            (st = get_vector(L, w, "normal", true, sc->dim, wall->normal, &at)))
+            return st;
+        double norm = 0.0;
+        for (int a = 0; a < sc->dim; ++a) norm += wall->normal[a] * wall->normal[a];
+        norm = sqrt(norm);
+        if (!(norm > 0.0))
+            return fail_at(L, at, NULL,
+                           "must be a non-zero vector (the wall's normal into the "
+                           "solid)");
+        for (int a = 0; a < sc->dim; ++a) wall->normal[a] /= norm;
+    }
+    sc->nwalls = n;
+    return SPH_OK;
+}
+
 /* contact = { impedance; penalty; }: bodies of a scene with several do not
  * merge; particles of different bodies interact only by the contact force
- * (device/sph_contact.h).  TLSPH keeps its reference neighbours and has no
+ * (device/sph_contact.h), and particles meet walls by the wall's
+ * (device/sph_wall.h).  TLSPH keeps its reference neighbours and has no
  * contact, so it runs scenes of one body. */
 static sph_status parse_contact(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
@@ -1539,9 +1622,10 @@ static sph_status parse_contact(loader *L, const config_setting_t *root) {
                        sc->nbodies);
     }
     if (!g) return SPH_OK;
-    if (sc->nbodies < 2)
+    if (sc->nbodies < 2 && sc->nwalls == 0)
         return fail_at(L, g, NULL,
-                       "contact acts between bodies, and the scene has one; remove the group");
+                       "contact acts between bodies or against walls, and the scene has one body "
+                       "and no wall; remove the group");
     if ((st = check_keys(L, g, KEYS("impedance", "penalty"))) ||
         (st = get_float(L, g, "impedance", false, 1.0, 0, false, 100, false,
                         &sc->contact_impedance)) ||
@@ -1613,7 +1697,7 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
     if ((st = check_keys(L, root,
                          KEYS("title", "dimension", "resolution", "method", "time", "materials",
                               "shapes", "bodies", "observers", "analysis", "gravity",
-                              "lattice_origin", "output", "monitor", "contact"))))
+                              "lattice_origin", "output", "monitor", "contact", "walls"))))
         return st;
 
     const config_setting_t *at;
@@ -1636,7 +1720,9 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
         (st = parse_observers(L, root)) || (st = parse_analysis(L, root)) ||
         (st = parse_output(L, root)) || (st = parse_monitor(L, root)))
         return st;
-    if ((st = check_material_model(L, root)) || (st = parse_contact(L, root))) return st;
+    if ((st = check_material_model(L, root)) || (st = parse_walls(L, root)) ||
+        (st = parse_contact(L, root)))
+        return st;
     if ((st = get_vector(L, root, "gravity", false, sc->dim, sc->gravity, NULL)) ||
         (st = get_vector(L, root, "lattice_origin", false, sc->dim, sc->lattice_origin, &at)))
         return st;

@@ -25,6 +25,7 @@
 #define SPH_SCENE_MAX_MATERIALS   8
 #define SPH_SCENE_MAX_CONSTRAINTS 8
 #define SPH_SCENE_MAX_OBSERVERS   16
+#define SPH_SCENE_MAX_WALLS       6 /* = SPH_MAX_WALLS of the device code */
 #define SPH_SCENE_PATH_LEN        1024
 #define SPH_SCENE_WHERE_LEN       (SPH_SCENE_PATH_LEN + 160)
 
@@ -77,9 +78,10 @@ typedef struct {
 
 typedef enum {
     SPH_VELOCITY_ZERO,
-    SPH_VELOCITY_UNIFORM,        /* v = vector */
-    SPH_VELOCITY_RIGID_ROTATION, /* v = omega x (x - centre) */
-    SPH_VELOCITY_CANTILEVER_MODE /* 003 eqs. 50-51, see below */
+    SPH_VELOCITY_UNIFORM,         /* v = vector */
+    SPH_VELOCITY_RIGID_ROTATION,  /* v = omega x (x - centre) */
+    SPH_VELOCITY_CANTILEVER_MODE, /* 003 eqs. 50-51, see below */
+    SPH_VELOCITY_PLATE_MODE       /* 000 eq. 35, see below */
 } sph_velocity_type;
 typedef struct {
     sph_velocity_type type;
@@ -91,6 +93,11 @@ typedef struct {
      * cosh ks) - (cos kL + cosh kL)(sin ks - sinh ks),  k = kl / length */
     double amplitude_c0, length, kl, clamp_x;
     int axis;
+    /* plate mode (3D): v[axis] = amplitude sin(m pi (x - lower_x) / size_x)
+     * sin(n pi (y - lower_y) / size_y), the mode (m, n) of a simply supported
+     * rectangular plate (000 eq. 35) */
+    double amplitude, lower[2], size[2];
+    int modes[2];
 } sph_velocity_field;
 
 typedef struct {
@@ -156,6 +163,15 @@ typedef enum {
     SPH_OUT_COUNT
 } sph_output_field;
 
+/* A rigid frictionless wall (device/sph_wall.h): the half-space behind the
+ * plane through `point`, `normal` (unit) pointing into the solid. */
+typedef struct {
+    char name[SPH_NAME_LEN];
+    double point[3];
+    double normal[3];
+    char where[SPH_SCENE_WHERE_LEN]; /* "file:line: walls.[k]" for messages */
+} sph_wall;
+
 typedef struct {
     char path[SPH_SCENE_PATH_LEN]; /* the scene file as given */
     char *resolved_text;           /* the scene after overrides, libconfig syntax (owned) */
@@ -177,8 +193,10 @@ typedef struct {
     double art_epsilon, art_exponent; /* OAS artificial stress: 0.3, 4 */
     double hourglass_alpha;           /* TLSPH hourglass control (002) */
     double riemann_limiter_slope;     /* 0: unlimited dissipation */
-    /* contact between bodies (scenes with several bodies, device/sph_contact.h):
-     * factors of the impedance term (1/2 rho0 c0 u) and of the penalty (rho0 c0^2) */
+    /* contact between bodies (scenes with several bodies, device/sph_contact.h)
+     * and with walls (device/sph_wall.h): factors of the impedance term
+     * (1/2 rho0 c0 u between bodies, rho0 c0 u at a wall) and of the penalty
+     * (rho0 c0^2) */
     double contact_impedance, contact_penalty;
     double gravity[3];
 
@@ -189,6 +207,9 @@ typedef struct {
     bool has_reference_speed;
     double reference_speed; /* U_ref; default: max initial speed */
     bool acceleration_criterion;
+    /* freeze the pair geometry at the start of the interval it serves (the
+     * public reference code) instead of its midpoint (neighbour_build.cl) */
+    bool geometry_at_start;
 
     int nmaterials;
     sph_material materials[SPH_SCENE_MAX_MATERIALS];
@@ -198,6 +219,8 @@ typedef struct {
     sph_body bodies[SPH_SCENE_MAX_BODIES];
     int nobservers;
     sph_observer observers[SPH_SCENE_MAX_OBSERVERS];
+    int nwalls;
+    sph_wall walls[SPH_SCENE_MAX_WALLS];
 
     /* snapshots: every `snapshot_every` output times (0: none) and at the end */
     double snapshot_interval;

@@ -179,6 +179,29 @@ static void monitor_domain(const sph_scene *sc, const sph_particles *p, double d
     }
 }
 
+/* Half the interval the next rebuild's frozen pair geometry serves (the
+ * positions it is taken at, x + s v, device/neighbour_build.cl): the coming
+ * advection step, cfl_ad h / max(max |v|, U_ref), or with single-criterion
+ * stepping the coming acoustic step, either cut at the next output time.
+ * The acceleration criterion, which the rebuild's own reduction feeds, is
+ * left out: the shift depends only on state a checkpoint holds, so a
+ * restart rebuilds the same geometry.  TLSPH's reference configuration, and
+ * time.frozen_geometry = "start" (the public reference code's choice): 0. */
+static double geometry_shift(const sph_scene *sc, double h, double c0, double u_ref,
+                             double max_speed2, double t, double next_output) {
+    if (sc->formulation == SPH_FORMULATION_TLSPH || sc->geometry_at_start) return 0.0;
+    const double speed = sqrt(max_speed2);
+    double interval;
+    if (sc->stepping == SPH_STEPPING_DUAL) {
+        const double u = fmax(speed, u_ref);
+        interval = u > 0.0 ? sc->cfl_advection * h / u : INFINITY;
+    } else {
+        interval = sc->cfl_acoustic * h / (c0 + speed);
+    }
+    interval = fmin(interval, next_output - t);
+    return isfinite(interval) && interval > 0.0 ? 0.5 * interval : 0.0;
+}
+
 /* Write a checkpoint of the state at this advection-step boundary. */
 static sph_status checkpoint(const sph_solver_args *a, double t, double max_speed2,
                              long output_index, const sph_run_stats *stats,
@@ -268,6 +291,10 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             if (!st) st = sph_checkpoint_restore(ck, be, err);
         } else {
             if (!st) st = sph_checkpoint_restore(ck, be, err);
+            const double next =
+                fmin((double)ck->h.output_index * sc->output_interval, sc->end_time);
+            be->geometry_shift =
+                geometry_shift(sc, h, c0, u_ref, ck->h.max_speed2, ck->h.time, next);
             if (!st) st = be->ops->rebuild(be, &info, err);
         }
         t = ck->h.time;
@@ -276,6 +303,17 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         stats->acoustic_steps = ck->h.acoustic_steps;
         stats->advection_steps = ck->h.advection_steps;
     } else {
+        double v0max2 = 0.0;
+        for (int i = 0; i < a->initial->n; ++i) {
+            double v2 = 0.0;
+            for (int d = 0; d < sc->dim; ++d) {
+                const double v = a->initial->vel[(size_t)d * a->initial->n + i];
+                v2 += v * v;
+            }
+            v0max2 = fmax(v0max2, v2);
+        }
+        be->geometry_shift =
+            geometry_shift(sc, h, c0, u_ref, v0max2, 0.0, fmin(sc->output_interval, sc->end_time));
         if (!st) st = be->ops->rebuild(be, &info, err);
         max_speed2 = info.max_speed2;
         if (!st) st = sample(a, &s, 0.0, ts, &ms, err);
@@ -375,8 +413,10 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             last_checkpoint_wall = now_seconds();
             while (next_checkpoint <= t) next_checkpoint += a->checkpoint_every;
         }
-        if (!st && !stop && t < sc->end_time && !total_lagrangian)
+        if (!st && !stop && t < sc->end_time && !total_lagrangian) {
+            be->geometry_shift = geometry_shift(sc, h, c0, u_ref, max_speed2, t, next_output);
             st = be->ops->rebuild(be, &info, err);
+        }
         sph_progress_update(&progress, wall, t, sc->end_time, stats->acoustic_steps,
                             stats->advection_steps, n, false);
     }

@@ -306,6 +306,29 @@ ROWS = [
             '    constraints = ( { type = "fixed"; region = "clamp"; } );\n  },\n'
             '  { name = "sliver"; material = "plate"; shape = "sliver"; }\n')],
         marker='{ name = "sliver"'),
+    # --- rigid walls (device/sph_wall.h)
+    Row("a wall that cuts a body", 2,
+        ["{file}:{line}: walls.floor: wall 'floor' cuts body 'plate' ({file}:{line_b}: "
+         "bodies.plate)", "less than dp/2 = 0.001 in front of it",
+         "a body may touch a wall but not cross it"],
+        [ed("analysis = {", 'walls = ( { name = "floor"; point = [0.0, 0.0]; '
+            'normal = [0.0, 1.0]; } );\nanalysis = {')],
+        marker='walls = (', marker_b='name = "plate";', offset_b=-1),
+    Row("a wall with a zero normal", 2,
+        ["{file}:{line}: walls.floor.normal: must be a non-zero vector"],
+        [ed("analysis = {", 'walls = ( { name = "floor"; point = [0.0, -0.5]; '
+            'normal = [0.0, 0.0]; } );\nanalysis = {')], marker='walls = ('),
+    Row("walls with TLSPH", 2,
+        ["{file}:{line}: method.formulation: \"tlsph\" has no wall contact"],
+        [ed('  formulation = "enog-a";', '  formulation = "tlsph";'),
+         ed('  rotation = "averaged";', '  rotation = "none";'),
+         ed("analysis = {", 'walls = ( { name = "floor"; point = [0.0, -0.5]; '
+            'normal = [0.0, 1.0]; } );\nanalysis = {')], marker='formulation = "tlsph"'),
+    Row("--set: a 3D velocity field in 2D", 2,
+        ['--set bodies.plate.initial_velocity.type="plate_mode": '
+         'bodies.plate.initial_velocity.type: "plate_mode" is a 3D velocity field'],
+        argv=["run", PLATE, "--quiet", "--set",
+              'bodies.plate.initial_velocity.type="plate_mode"']),
     # --- overrides: the message names the override
     Row("--set: a value out of range", 2,
         ["--set materials.plate.poisson_ratio=0.7: materials.plate.poisson_ratio: "

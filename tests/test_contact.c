@@ -322,9 +322,8 @@ static void pair_lattice(test_counts *t, sph_backend_kind kind, double impedance
  * total energy E = kinetic + strain of both rings):
  *
  *   dp        E0 (J/m)  t(KE min)  KE(end)/KE0  mean E(t >= 0.012)/E0  E(end)/E0
- *   0.0025    136.50    0.0058     0.648        0.770                  0.751
- *   0.002     131.52    0.0060     0.725        0.807                  0.781
- *   0.001     131.76    0.0056     0.696        0.836                  0.843
+ *   0.002     131.52    0.0060     0.693        0.786                  0.753
+ *   0.001     131.76    0.0056     0.687        0.821                  0.826
  *   000 Fig. 16 (relaxed particles, dp 0.001): 2 x 65.88, about 0.005,
  *   55.61 / 65.88 = 0.844 at the end
  *
@@ -336,18 +335,20 @@ static void pair_lattice(test_counts *t, sph_backend_kind kind, double impedance
  * instability monitor quiet; the mean total energy over t >= 0.012 s (the
  * total oscillates by a few % between kinetic and strain energy, so the
  * mean of the last 11 outputs rather than the last value) within
- * [0.79, 0.86] of E0 around the paper's 0.844: measured 0.770 at dp 0.0025,
- * 0.807 at 0.002 and 0.836 at 0.001 (the Riemann dissipation shrinks with
- * dp), so the band holds the CI resolution's 0.807 with 0.017 to spare and
- * the full resolution's value; the two rings' energies equal to 1e-12
- * relative (the lattice and the scheme are symmetric under the rotation by
- * 180 degrees that maps one ring onto the other); the observers of the two
- * rings mirror images in x = 0 within 1e-6 dp: exact at t = 0 to the
- * lattice's round-off, the mirror symmetry is unstable in a lattice contact
- * (flat faces pressed particle against particle may slide half a spacing)
- * and its round-off defect grows during the contact, measured 8e-8 dp at
- * the end at this dp (0.17 dp at dp = 0.001, where the contact lasts more
- * e-folding times; cases/colliding_rings_2d/README.md). */
+ * [0.77, 0.86] of E0 around the paper's 0.844: measured 0.786 at 0.002 and
+ * 0.821 at 0.001 (the Riemann dissipation shrinks with dp), so the band holds
+ * the CI resolution's value with 0.016 to spare and the full resolution's.
+ * (With the pair geometry frozen at the start of each advection step,
+ * time.frozen_geometry = "start", the rings lose less: 0.807 and 0.834; the
+ * midpoint geometry, which keeps a spinning body's angular momentum,
+ * extrapolates the positions of particles the contact is stopping, and the
+ * band was [0.79, 0.86] around 0.807 before it became the default); the two rings' energies equal
+ * to 1e-12 relative (the lattice and the scheme are symmetric under the rotation by 180 degrees
+ * that maps one ring onto the other); the observers of the two rings mirror images in x = 0 within
+ * 1e-6 dp: exact at t = 0 to the lattice's round-off, the mirror symmetry is unstable in a lattice
+ * contact (flat faces pressed particle against particle may slide half a spacing) and its round-off
+ * defect grows during the contact, measured 5e-8 dp at the end at this dp (0.17 dp at dp = 0.001,
+ * where the contact lasts more e-folding times; cases/colliding_rings_2d/README.md). */
 static void rings(test_counts *t, sph_backend_kind kind) {
     const char *overrides[] = {"resolution.dp=0.002", "output.snapshot_interval=0"};
     sph_simulation sim;
@@ -439,7 +440,7 @@ static void rings(test_counts *t, sph_backend_kind kind) {
           "rebound: KE(end) %.4g, KE0 %.4g, KE min %.4g", end->kinetic, ts->diag[0].kinetic,
           ke_min);
     CHECK(t, gap > 2.0 * dp, "the rings are apart at the end: closest pair %.3g dp", gap / dp);
-    CHECK_RANGE(t, e_late / e0, 0.79, 0.86, "mean E(t >= 0.012 s) / E0 (000: 55.61/65.88)");
+    CHECK_RANGE(t, e_late / e0, 0.77, 0.86, "mean E(t >= 0.012 s) / E0 (000: 55.61/65.88)");
     CHECK(t, fabs(energy[0] - energy[1]) <= 1e-12 * energy[0], "ring energies %.15g / %.15g",
           energy[0], energy[1]);
     CHECK(t, mirror <= 1e-6 * dp, "mirror defect %.3g m", mirror);
@@ -452,11 +453,13 @@ static void rings(test_counts *t, sph_backend_kind kind) {
  * zigzag and fracture; documented runs (native backend):
  *
  *   dp      plate centre lowest      max E/E0  E(end)/E0  ball's top, last 0.5 ms
- *   0.005   -0.0789 m at 0.025 s     1.049     0.668      +2.5 mm (rising)
+ *   0.005   -0.0774 m at 0.0255 s    1.049     0.689      +2.5 mm (rising)
  *   0.0025  -0.0839 m at 0.025 s     1.098     0.692      +2.6 mm
+ *   (the 0.0025 row with the pair geometry frozen at the start of each
+ *   advection step, time.frozen_geometry = "start"; 0.005 with the default)
  *
  * Asserted: the monitor quiet; the plate's centre deflected to between
- * -0.095 and -0.07 m (a band around both resolutions' -0.079 and -0.084);
+ * -0.095 and -0.07 m (a band around both resolutions' -0.077 and -0.084);
  * the ball bouncing back (its top rising at the end, by more than 1 mm in
  * the last 0.5 ms, i.e. faster than 2 m/s against 7.45 at impact) and
  * apart from the plate (closest pair > 1 dp); the setup symmetric about

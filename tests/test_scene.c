@@ -416,7 +416,8 @@ static const bad_row BAD[] = {
      NULL, "%F:10: shapes.block.type: \"cylinder\" is a 3D shape"},
     {"contact with one body", "shape = \"block\"; }\n);\n",
      "shape = \"block\"; }\n);\ncontact = { penalty = 2.0; };\n", NULL,
-     "%F:15: contact: contact acts between bodies, and the scene has one"},
+     "%F:15: contact: contact acts between bodies or against walls, and the scene has one body and "
+     "no wall"},
     {"contact penalty < 0",
      "};\nbodies = (\n  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n);\n",
      "  far = { type = \"disc\"; centre = [3.0, 0.5]; radius = 0.5; };\n};\nbodies = (\n"

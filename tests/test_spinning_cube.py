@@ -1,0 +1,67 @@
+#!/usr/bin/python3
+"""test_spinning_cube.py BACKEND — the 3D spinning cube of 003 §5.1.4 (cases/spinning_cube_3d).
+
+A unit cube in rigid rotation at omega = (0, 0, 50) rad/s, nu = 0.3, single-criterion
+stepping at acoustic CFL 0.1, to t = 0.5 s (0.25 s on OpenCL: pocl's rebuild after every
+step takes 3 minutes for the whole run), SPH-GNOG-A with the averaged rotation, at
+dp = 0.1 (1 000 particles; the paper's dp = 0.05 is the benchmark, tools/bench_cases.py).
+Checks:
+
+- the initial kinetic energy is the lattice's rigid-body value sum (1/2) m omega^2
+  (x^2 + y^2), to 1e-12;
+- the maximum angular-momentum error over the run is at most 1.2 x 003's 1.18 %, the
+  issue's bound (measured 0.230 % at this dp, 0.14 % at dp = 0.05);
+- linear momentum is conserved to round-off and the angular momentum stays about z
+  (its x and y components below 1e-12 of L0).
+
+SPH-ENOG-A on this case is not asserted: its error, 20 %, is the README's deviation.
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphtest import BIN, SRC, check, finish  # noqa: E402
+
+BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
+tmp = tempfile.mkdtemp(prefix="sphsolid-cube-")
+try:
+    scene = os.path.join(SRC, "cases", "spinning_cube_3d", "scene.cfg")
+    out = os.path.join(tmp, "cube")
+    dp, rho0, omega = 0.1, 1100.0, 50.0
+    # pocl rebuilds 5 570 times more slowly (single stepping): half the run there
+    end = 0.5 if BACKEND == "cpu" else 0.25
+    p = subprocess.run([BIN, "run", scene, "--backend", BACKEND, "--quiet", "--out", out,
+                        "--set", "resolution.dp=%g" % dp, "--set", "method.formulation=gnog-a",
+                        "--set", "time.end=%g" % end], capture_output=True, text=True,
+                       timeout=1800)
+    check(p.returncode == 0, f"exit {p.returncode} ({p.stderr.strip()})")
+    if p.returncode == 0:
+        with open(os.path.join(out, "summary.json")) as f:
+            summ = json.load(f)
+        ts = np.genfromtxt(os.path.join(out, "timeseries.csv"), delimiter=",", names=True)
+        c = (np.arange(10) + 0.5) * dp - 0.5
+        x, y = np.meshgrid(c, c, indexing="ij")
+        ke0 = 10 * np.sum(0.5 * rho0 * dp ** 3 * omega ** 2 * (x ** 2 + y ** 2))
+        check(abs(ts["kinetic_energy"][0] / ke0 - 1) < 1e-12,
+              f"initial kinetic energy {ts['kinetic_energy'][0]:.10g} against {ke0:.10g}")
+        err = summ["metrics"]["max_angular_momentum_error"]
+        check(abs(ts["time"][-1] - end) < 1e-12, f"reached t = {end} s ({ts['time'][-1]})")
+        check(err <= 1.2 * 0.0118, f"maximum angular-momentum error {100 * err:.3f} % "
+              "(003: 1.18 %, bound 1.2 x)")
+        drift = summ["metrics"]["max_linear_momentum_drift"]
+        check(drift < 1e-9, f"linear momentum drift {drift:.3g}")
+        l0 = ts["angular_momentum_z"][0]
+        tilt = max(np.max(np.abs(ts["angular_momentum_x"])), np.max(np.abs(ts["angular_momentum_y"])))
+        check(tilt < 1e-12 * l0, f"angular momentum stays about z ({tilt / l0:.3g} L0)")
+        print("spinning cube dp = %g, SPH-GNOG-A: KE0 %.6g J, max angular-momentum error %.3f %%, "
+              "momentum drift %.3g, %d steps" % (dp, ts["kinetic_energy"][0], 100 * err, drift,
+                                                  summ.get("acoustic_steps", -1)))
+finally:
+    shutil.rmtree(tmp, ignore_errors=True)
+finish("test_spinning_cube_" + BACKEND)

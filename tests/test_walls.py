@@ -1,0 +1,185 @@
+#!/usr/bin/python3
+"""test_walls.py BACKEND — frictionless contact with rigid walls (device/sph_wall.h).
+
+An elastic bar moving along its axis at v0 = 1 m/s (0.0175 c0) hits a rigid wall end on,
+in 2D (0.2 x 0.02, dp = 0.002, 1 000 particles; the plane-strain model with the in-plane
+deviator, sph_elasticity.h, so the bar modulus is E_b = 4 G K / (K + G) with its free
+faces) and in 3D (0.1 x 0.01 x 0.01, dp = 0.002, 1 250 particles, E_b = E).  One-dimensional
+elastodynamics (the St-Venant bar impact): the wall pushes with the constant force
+rho0 c_b v0 A (c_b = sqrt(E_b / rho0), the impact stress rho c v on the bar's end A) for
+the time 2 L / c_b, after which the bar leaves at v0, free of stress.  Checks:
+
+SPH-GNOG-A, whose shear force is the divergence of the stress (SPH-ENOG-A's Laplacian
+shear force has other effective moduli: its 2D bar leaves 6 % early).
+
+- the force plateau, the slope of the bar's momentum while it touches, against
+  rho0 c_b v0 A: within 5 % in 2D (measured -1.4 %); within 8 % in 3D, where the bar is
+  5 particles across and 16 of its 25 particle columns lie on the free surface, whose
+  truncated kernels soften it: -6.6 % here, -3.0 % at dp = 0.001 (10 across), first
+  order in dp;
+- the contact ends, where the force falls through half its plateau, at 2 L / c_b
+  within 5 % (measured -1.3 % and +1.7 %);
+- the restitution v_out / v0 in [0.85, 1]: the wall and the solver may dissipate but never
+  create energy; the runs here give 0.919 and 0.897, the Riemann dissipation of the shock
+  at the bar's end taking the rest;
+- no particle's centre crosses the wall's surface: at every snapshot the nearest stays
+  more than dp/4 in front of it (measured 0.448 dp and 0.447 dp);
+- momentum across the wall's normal and the angular momentum stay at round-off (the
+  wall force is along the normal of every particle).
+
+Then the square Taylor bar of cases/taylor_bar_square at L/dp = 8 (2 560 particles, J2 with
+hardening, SPH-GNOG-A, 227 m/s onto the wall) to 60 us: the run completes with the monitor
+quiet at the case's settings; no particle crosses the wall (nearest 0.46 dp); the bar comes
+to rest (kinetic energy below 1 % of the initial, measured 0.36 %) with the total energy
+below its initial value, and the J2 plastic work sum V (sigma_Y eps_p + kappa eps_p^2 / 2)
+takes between half and all of the initial kinetic energy (measured 71 %); the square's
+symmetry holds to round-off (momentum across the axis and the observer's y below 1e-9 of
+the initial momentum and of the side); the foot spreads: the observer s at the edge of the
+impact face moves out by 0.845 mm and the top comes down to 21.84 mm in the documented run
+(cases/taylor_bar_square/README.md), held to 10 % and 2 %.  The published observer position
+(003 Table 4, 5.21 mm at this resolution) is not reproduced: the README's deviation.
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sphtest import BIN, SRC, check, finish  # noqa: E402
+
+BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
+tmp = tempfile.mkdtemp(prefix="sphsolid-walls-")
+
+E, NU, RHO0, V0, DP = 2.0e6, 0.3975, 1000.0, 1.0, 0.002
+K, G = E / (3 * (1 - 2 * NU)), E / (2 * (1 + NU))
+BARS = {
+    2: {"lower": "[0.0, -0.01]", "upper": "[0.2, 0.01]", "length": 0.2, "area": 0.02,
+        "modulus": 4 * G * K / (K + G), "vel": "[-1.0, 0.0]", "point": "[0.0, 0.0]",
+        "normal": "[1.0, 0.0]", "end": 0.016},
+    3: {"lower": "[0.0, -0.005, -0.005]", "upper": "[0.1, 0.005, 0.005]", "length": 0.1,
+        "area": 1e-4, "modulus": E, "vel": "[-1.0, 0.0, 0.0]", "point": "[0.0, 0.0, 0.0]",
+        "normal": "[1.0, 0.0, 0.0]", "end": 0.009},
+}
+SCENE = """
+title = "elastic bar against a rigid wall";
+dimension = %(dim)d;
+resolution = { dp = %(dp)g; };
+method = { formulation = "gnog-a"; rotation = "averaged"; };
+time = { end = %(end)g; output_interval = 0.0001; };
+materials = { m = { density = %(rho)g; youngs_modulus = %(E)g; poisson_ratio = %(nu)g; }; };
+shapes = { bar = { type = "box"; lower = %(lower)s; upper = %(upper)s; }; };
+bodies = ( { name = "bar"; material = "m"; shape = "bar";
+             initial_velocity = { type = "uniform"; vector = %(vel)s; }; } );
+walls = ( { name = "wall"; point = %(point)s; normal = %(normal)s; } );
+output = { snapshot_interval = 0.0005; fields = ["particle_id"]; };
+"""
+
+try:
+    for dim, bar in BARS.items():
+        path = os.path.join(tmp, "bar%d.cfg" % dim)
+        with open(path, "w") as f:
+            f.write(SCENE % dict(bar, dim=dim, dp=DP, rho=RHO0, E=E, nu=NU))
+        out = os.path.join(tmp, "bar%d" % dim)
+        p = subprocess.run([BIN, "run", path, "--backend", BACKEND, "--quiet", "--out", out],
+                           capture_output=True, text=True, timeout=900)
+        check(p.returncode == 0, f"{dim}D bar: exit {p.returncode} ({p.stderr.strip()})")
+        if p.returncode != 0:
+            continue
+        with open(os.path.join(out, "summary.json")) as f:
+            summ = json.load(f)
+        check(summ["features"]["walls"] == 1, f"{dim}D: the feature set names one wall")
+        if BACKEND == "opencl":
+            check("-DSPH_WALLS=1" in summ["build_options"],
+                  f"{dim}D: the program is built with the wall")
+        ts = np.genfromtxt(os.path.join(out, "timeseries.csv"), delimiter=",", names=True)
+        t, px = ts["time"], ts["momentum_x"]
+        mass = RHO0 * bar["length"] * bar["area"]
+        cb = math.sqrt(bar["modulus"] / RHO0)
+        force = RHO0 * cb * V0 * bar["area"]
+        duration = 2 * bar["length"] / cb
+        check(abs(px[0] + mass * V0) < 1e-9 * mass, f"{dim}D: initial momentum -M v0")
+        # the plateau: fit the momentum over the middle of the expected contact
+        mid = (t > 0.15 * duration) & (t < 0.85 * duration)
+        slope = np.polyfit(t[mid], px[mid], 1)[0]
+        check(abs(slope / force - 1) < (0.05 if dim == 2 else 0.08), f"{dim}D: wall force {slope:.5g} N against "
+              f"rho0 c_b v0 A = {force:.5g} N ({100 * (slope / force - 1):+.2f} %)")
+        p_end = px[-1]
+        restitution = p_end / (mass * V0)
+        span = p_end - px[0]
+        # the contact ends where the wall force, released over a few spacings, falls
+        # through half its plateau
+        f_mid, t_mid = np.diff(px) / np.diff(t), 0.5 * (t[1:] + t[:-1])
+        end = t_mid[np.nonzero(f_mid >= 0.5 * slope)[0][-1]]
+        check(abs(end / duration - 1) < 0.05, f"{dim}D: contact ends at {1e3 * end:.3f} ms "
+              f"against 2 L / c_b = {1e3 * duration:.3f} ms ({100 * (end / duration - 1):+.2f} %)")
+        check(0.85 <= restitution <= 1.0, f"{dim}D: restitution {restitution:.4f} in [0.85, 1]")
+        check(np.all(np.abs(ts["momentum_y"]) < 1e-9 * mass * V0),
+              f"{dim}D: momentum across the normal at round-off "
+              f"({np.max(np.abs(ts['momentum_y'])):.3g})")
+        am = ts["angular_momentum"] if dim == 2 else ts["angular_momentum_z"]
+        check(np.all(np.abs(am) < 1e-9 * mass * V0 * bar["length"]),
+              f"{dim}D: no spin ({np.max(np.abs(am)):.3g})")
+        with open(os.path.join(out, "snapshots.hdf.series")) as f:
+            files = json.load(f)["files"]
+        closest = min(float(np.min(h5py.File(os.path.join(out, s["name"]), "r")
+                                   ["VTKHDF/Points"][:, 0])) for s in files)
+        check(closest > 0.25 * DP, f"{dim}D: nearest particle {closest / DP:.3f} dp in front "
+              "of the wall (> dp/4)")
+        print("%dD bar: force %+.2f %%, contact %.3f ms (2L/c_b %.3f ms, %+.2f %%), restitution "
+              "%.4f, nearest %.3f dp" % (dim, 100 * (slope / force - 1), 1e3 * end, 1e3 * duration,
+                                        100 * (end / duration - 1), restitution, closest / DP))
+
+    # the square Taylor bar, L/dp = 8
+    scene = os.path.join(SRC, "cases", "taylor_bar_square", "scene.cfg")
+    out = os.path.join(tmp, "taylor")
+    p = subprocess.run([BIN, "run", scene, "--backend", BACKEND, "--quiet", "--out", out],
+                       capture_output=True, text=True, timeout=900)
+    check(p.returncode == 0, f"Taylor bar: exit {p.returncode} ({p.stderr.strip()})")
+    if p.returncode == 0:
+        with open(os.path.join(out, "summary.json")) as f:
+            summ = json.load(f)
+        check(summ["status"] == "completed" and "instability" not in summ,
+              f"Taylor bar: monitor quiet ({summ.get('instability')})")
+        ts = np.genfromtxt(os.path.join(out, "timeseries.csv"), delimiter=",", names=True)
+        dp, rho0, sigma_y, kappa = 0.00075, 8930.0, 4.0e8, 1.0e8
+        ke0 = ts["kinetic_energy"][0]
+        p0 = abs(ts["momentum_z"][0])
+        check(abs(ke0 - 0.5 * rho0 * 0.006 * 0.006 * 0.03 * 227.0 ** 2) < 1e-9 * ke0,
+              f"Taylor bar: initial kinetic energy {ke0:.6g} J")
+        check(ts["kinetic_energy"][-1] < 0.01 * ke0,
+              f"Taylor bar: at rest at 60 us (KE {ts['kinetic_energy'][-1] / ke0:.4f} KE0)")
+        check(np.all(ts["total_energy"][1:] < ke0), "Taylor bar: energy never above its initial")
+        sym = max(np.max(np.abs(ts["momentum_x"])), np.max(np.abs(ts["momentum_y"])))
+        check(sym < 1e-9 * p0, f"Taylor bar: momentum across the axis {sym:.3g}")
+        check(np.max(np.abs(ts["s_y"])) < 1e-9 * 0.006,
+              f"Taylor bar: observer on the symmetry plane ({np.max(np.abs(ts['s_y'])):.3g})")
+        with open(os.path.join(out, "snapshots.hdf.series")) as f:
+            files = json.load(f)["files"]
+        closest = min(float(np.min(h5py.File(os.path.join(out, s["name"]), "r")
+                                   ["VTKHDF/Points"][:, 2])) for s in files)
+        check(closest > 0.25 * dp, f"Taylor bar: nearest particle {closest / dp:.3f} dp above "
+              "the wall")
+        with h5py.File(os.path.join(out, files[-1]["name"]), "r") as f:
+            pd = f["VTKHDF/PointData"]
+            eps, rho = pd["plastic_strain"][:], pd["density"][:]
+        work = float(np.sum(rho0 * dp ** 3 / rho * (sigma_y * eps + 0.5 * kappa * eps ** 2)))
+        check(0.5 * ke0 <= work <= ke0, f"Taylor bar: plastic work {work:.4g} J = "
+              f"{work / ke0:.3f} KE0, in [0.5, 1]")
+        spread = ts["s_x"][-1] - ts["s_x"][0]
+        check(abs(spread / 0.845e-3 - 1) < 0.10,
+              f"Taylor bar: observer s moves out {1e3 * spread:.4f} mm (documented 0.845 mm)")
+        check(abs(ts["top_z"][-1] / 0.02184 - 1) < 0.02,
+              f"Taylor bar: top at {1e3 * ts['top_z'][-1]:.3f} mm (documented 21.84 mm)")
+        print("Taylor bar L/dp = 8: s from %.4f to %.4f mm, top %.3f mm, plastic work %.3f KE0, "
+              "KE(end) %.4f KE0, nearest %.3f dp" % (1e3 * ts["s_x"][0], 1e3 * ts["s_x"][-1],
+                                                   1e3 * ts["top_z"][-1], work / ke0,
+                                                   ts["kinetic_energy"][-1] / ke0, closest / dp))
+finally:
+    shutil.rmtree(tmp, ignore_errors=True)
+finish("test_walls_" + BACKEND)
