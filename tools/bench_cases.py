@@ -61,6 +61,17 @@ def run(scene, sets, backend, tmp, name):
     return p.returncode, summary, rows, wall
 
 
+def status_of(code, summary):
+    """'completed', or how the run stopped (the monitor's trip: quantity and time)."""
+    if code == 0:
+        return "completed"
+    ins = summary.get("instability") or {}
+    if ins:
+        return "stopped by the monitor at t = %.3g s (%s)" % (ins.get("time", float("nan")),
+                                                             ins.get("quantity", ""))
+    return f"exit {code}"
+
+
 def col(rows, key):
     return [float(r[key]) for r in rows]
 
@@ -80,7 +91,8 @@ def main():
                 code, s, rows, wall = run(CUBE, [f"method.formulation={f}"], a.backend, tmp,
                                           "cube-" + f)
                 err = s.get("metrics", {}).get("max_angular_momentum_error")
-                results.append(dict(case="spinning cube, dp = 0.05", formulation=f,
+                results.append(dict(suite="cube", status=status_of(code, s),
+                                    case="spinning cube, dp = 0.05", formulation=f,
                                     quantity="max angular-momentum error", ours=err,
                                     paper=CUBE_PAPER[f], target="<= 1.2 x paper",
                                     met=err is not None and err <= 1.2 * CUBE_PAPER[f],
@@ -94,7 +106,8 @@ def main():
                 code, s, rows, wall = run(TAYLOR, ["resolution.dp=%.15g" % dp], a.backend, tmp,
                                           f"taylor-{ratio}")
                 x = float(rows[-1]["s_x"]) if rows else None
-                results.append(dict(case=f"square Taylor bar, L/dp = {ratio}",
+                results.append(dict(suite="taylor", status=status_of(code, s),
+                                    case=f"square Taylor bar, L/dp = {ratio}",
                                     formulation="gnog-a", quantity="observer s final x, m",
                                     ours=x, paper=paper, reference=TAYLOR_REFERENCE,
                                     height=float(rows[-1]["top_z"]) if rows else None,
@@ -108,7 +121,8 @@ def main():
                 code, s, rows, wall = run(PLATE3D, [f"method.formulation={f}", "time.end=0.02"],
                                           a.backend, tmp, "plate3d-" + f)
                 period = s.get("metrics", {}).get("first_period")
-                results.append(dict(case="3D plate (2,2), H/dp = 3", formulation=f,
+                results.append(dict(suite="plate3d", status=status_of(code, s),
+                                    case="3D plate (2,2), H/dp = 3", formulation=f,
                                     quantity="first period, s", ours=period,
                                     paper=PLATE_PAPER[f],
                                     target="within 3 %" if f == "enog-a" else "",
@@ -127,6 +141,11 @@ def main():
             r["case"], r["formulation"], r["quantity"],
             "—" if r["ours"] is None else "%.5g" % r["ours"], "%.5g" % r["paper"],
             ("met" if r["met"] else "NOT met") if r["target"] else ""))
+    if a.json and os.path.exists(a.json):
+        # keep the rows of the suites not rerun this time
+        with open(a.json) as f:
+            old = json.load(f).get("results", [])
+        results = [r for r in old if r.get("suite") not in a.suites] + results
     if a.json:
         os.makedirs(os.path.dirname(os.path.abspath(a.json)), exist_ok=True)
         with open(a.json, "w") as f:
@@ -135,14 +154,15 @@ def main():
         lines = ["# Benchmark library: 3D and wall cases\n",
                  f"Produced by `{meta['command']}` on {meta['date']} ({meta['cores']} cores, "
                  f"backend {meta['backend']}, commit {meta['commit']}).\n",
-                 "| case | formulation | quantity | sphsolid | published | target | wall (s) |",
-                 "|---|---|---|---|---|---|---|"]
+                 "| case | formulation | quantity | sphsolid | published | target | run | wall (s) |",
+                 "|---|---|---|---|---|---|---|---|"]
         for r in results:
             target = (r["target"] + (": met" if r["met"] else ": **not met**")) \
                 if r["target"] else ""
             ours = "—" if r["ours"] is None else "%.4g" % r["ours"]
             lines.append(f"| {r['case']} | {r['formulation']} | {r['quantity']} | {ours} | "
-                         f"{r['paper']:.4g} | {target} | {r['wall_s']:.0f} |")
+                         f"{r['paper']:.4g} | {target} | {r.get('status', '')} | "
+                         f"{r['wall_s']:.0f} |")
         with open(a.markdown, "w") as f:
             f.write("\n".join(lines) + "\n")
     if a.png_dir and series:
@@ -150,17 +170,20 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         os.makedirs(a.png_dir, exist_ok=True)
-        for prefix, title, ylabel, scale in (
-                ("taylor", "Square Taylor bar: observer s", "x (mm)", 1e3),
-                ("cube", "Spinning cube: angular momentum", "L_z / L0 - 1 (%)", 100.0),
-                ("plate3d", "3D plate (2,2), H/dp = 3: quarter point", "z (mm)", 1e3)):
+        for prefix, title, ylabel, scale, tscale, tlabel in (
+                ("taylor", "Square Taylor bar: observer s", "x (mm)", 1e3, 1e6, "t (µs)"),
+                ("cube", "Spinning cube: angular momentum", "L_z / L0 - 1 (%)", 100.0, 1.0,
+                 "t (s)"),
+                ("plate3d", "3D plate (2,2), H/dp = 3: quarter point", "z (mm)", 1e3, 1e3,
+                 "t (ms)")):
             keys = [k for k in series if k.startswith(prefix)]
             if not keys:
                 continue
             fig, ax = plt.subplots(figsize=(6, 4))
             for k in keys:
                 t, y = series[k]
-                ax.plot([1e3 * v for v in t], [scale * v for v in y], label=k[len(prefix) + 1:])
+                ax.plot([tscale * v for v in t], [scale * v for v in y],
+                        label=k[len(prefix) + 1:])
             if prefix == "taylor":
                 for ratio, x in TAYLOR_PAPER.items():
                     ax.plot([60.0], [1e3 * x], "o", label=f"003 Table 4, L/dp = {ratio}")
@@ -168,7 +191,7 @@ def main():
             if prefix == "cube":
                 for f, e in CUBE_PAPER.items():
                     ax.axhline(100 * e, ls="--", label=f"003 max error, {f}")
-            ax.set_xlabel("t (ms)")
+            ax.set_xlabel(tlabel)
             ax.set_ylabel(ylabel)
             ax.set_title(title)
             ax.legend(fontsize=7)
