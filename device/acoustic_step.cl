@@ -175,16 +175,21 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real 
 
     vec a_s = vec_load(acc_shear, n, i);
 #if SPH_HAS_ROTATION_AVG
-    if (RUNTIME_ROTATION == ROTATION_AVERAGED && PRESENT(dacc_shear)) {
+    /* the body's mean rotation over the last substep (reduction.cl), which
+     * turns both the accumulated acceleration and the stress divergence */
+    const bool averaged = RUNTIME_ROTATION == ROTATION_AVERAGED && PRESENT(dacc_shear);
+    const mat rbar = averaged ? mean_rotation(prm, substep_sums, BODY_OF(i)) : mat_identity();
+    if (averaged) {
         /* 003 eq. 42 with the increment placed in the current configuration:
          * da^s was summed over the pair geometry frozen at the last rebuild,
          * one acoustic step before the configuration this update acts in, so
          * the step's mean rotation carries it along with the accumulated sum:
-         * a^s <- Rbar (a^s + da^s).  On the spinning plate (CFL 0.1) this gives
-         * a maximum angular-momentum error of 2.54 % (paper: 2.58 %); adding
-         * da^s after the rotation gives 3.12 %, the difference being the
-         * one-step lag of the increment (README, "SPH-ENOG-A rotation"). */
-        const mat rbar = mean_rotation(prm, substep_sums, BODY_OF(i));
+         * a^s <- Rbar (a^s + da^s).  On the spinning plate (CFL 0.1, the
+         * geometry frozen at the start of the step) this gave a maximum
+         * angular-momentum error of 2.54 % (paper: 2.58 %) against 3.12 % with
+         * da^s added after the rotation, the difference being the one-step
+         * lag of the increment; 1.05 % with the mid-interval geometry
+         * (README, "SPH-ENOG-A rotation"). */
         a_s = mat_vec(rbar, vec_add(a_s, vec_load(dacc_shear, n, i)));
         vec_store(acc_shear, n, i, a_s);
     }
@@ -202,8 +207,7 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real 
          * 0.025 % with the turn. */
         vec a_sigma = vec_load(acc_stress, n, i);
 #    if SPH_HAS_ROTATION_AVG
-        if (RUNTIME_ROTATION == ROTATION_AVERAGED && PRESENT(dacc_shear))
-            a_sigma = mat_vec(mean_rotation(prm, substep_sums, BODY_OF(i)), a_sigma);
+        if (averaged) a_sigma = mat_vec(rbar, a_sigma);
 #    endif
         a_s = vec_add(a_s, a_sigma);
     }

@@ -258,19 +258,18 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
      * no later rebuild, hence no advection step: every acoustic step (the
      * acoustic CFL criterion only) is an outer step of its own. */
     const bool total_lagrangian = sc->formulation == SPH_FORMULATION_TLSPH;
-    double u_ref = 0.0;
-    if (sc->has_reference_speed) {
-        u_ref = sc->reference_speed;
-    } else {
-        for (int i = 0; i < a->initial->n; ++i) {
-            double v2 = 0.0;
-            for (int d = 0; d < sc->dim; ++d) {
-                const double v = a->initial->vel[(size_t)d * a->initial->n + i];
-                v2 += v * v;
-            }
-            u_ref = fmax(u_ref, sqrt(v2));
+    /* the largest initial speed: U_ref unless the scene gives one, and the
+     * speed that sets the first rebuild's geometry shift */
+    double v0max2 = 0.0;
+    for (int i = 0; i < a->initial->n; ++i) {
+        double v2 = 0.0;
+        for (int d = 0; d < sc->dim; ++d) {
+            const double v = a->initial->vel[(size_t)d * a->initial->n + i];
+            v2 += v * v;
         }
+        v0max2 = fmax(v0max2, v2);
     }
+    const double u_ref = sc->has_reference_speed ? sc->reference_speed : sqrt(v0max2);
     stats->reference_speed = u_ref;
     const double speed_limit = sc->monitor_speed_limit * (c0 + u_ref);
 
@@ -303,15 +302,6 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         stats->acoustic_steps = ck->h.acoustic_steps;
         stats->advection_steps = ck->h.advection_steps;
     } else {
-        double v0max2 = 0.0;
-        for (int i = 0; i < a->initial->n; ++i) {
-            double v2 = 0.0;
-            for (int d = 0; d < sc->dim; ++d) {
-                const double v = a->initial->vel[(size_t)d * a->initial->n + i];
-                v2 += v * v;
-            }
-            v0max2 = fmax(v0max2, v2);
-        }
         be->geometry_shift =
             geometry_shift(sc, h, c0, u_ref, v0max2, 0.0, fmin(sc->output_interval, sc->end_time));
         if (!st) st = be->ops->rebuild(be, &info, err);

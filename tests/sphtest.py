@@ -24,3 +24,31 @@ def finish(name):
     """Print the tally and exit 1 if any check failed."""
     print("%s: %d passed, %d failed" % (name, _counts["passed"], _counts["failed"]))
     sys.exit(1 if _counts["failed"] else 0)
+
+
+def run_sphsolid(scene, backend, out, sets=(), timeout=900):
+    """`sphsolid run SCENE --backend BACKEND --quiet --out OUT --set S ...`:
+    (exit status, stderr stripped)."""
+    import subprocess
+    cmd = [BIN, "run", scene, "--backend", backend, "--quiet", "--out", out]
+    for s in sets:
+        cmd += ["--set", s]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stderr.strip()
+
+
+def run_results(out):
+    """A run directory's summary.json (a dict) and timeseries.csv (a numpy
+    structured array, columns by name)."""
+    import json
+    import numpy as np
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    return summary, np.genfromtxt(os.path.join(out, "timeseries.csv"), delimiter=",", names=True)
+
+
+def snapshot_paths(out):
+    """The run's snapshot files, in time order (snapshots.hdf.series)."""
+    import json
+    with open(os.path.join(out, "snapshots.hdf.series")) as f:
+        return [os.path.join(out, s["name"]) for s in json.load(f)["files"]]
