@@ -114,14 +114,14 @@ FN mat mean_rotation(CONSTANT real *prm, GLOBAL const real *restrict substep_sum
  * a += da unrotated; a = R_i a + da with the particle's own Rodrigues matrix
  * (003 eq. 34); or, averaged, da waits in dacc for R-bar, applied as
  * a = R-bar (a + da) at the next acoustic_pressure (003 eqs. 41-42). */
-FN void accumulate_increment(GLOBAL real *restrict acc, GLOBAL real *restrict dacc, const int n,
+FN void accumulate_increment(GLOBAL hreal *restrict acc, GLOBAL real *restrict dacc, const int n,
                              const int i, const vec da, const mat grad_v, const int rotation,
                              const real dt) {
     if (rotation == ROTATION_NONE) {
-        vec_store(acc, n, i, vec_add(vec_load(acc, n, i), da));
+        hvec_add_store(acc, n, i, da);
     } else if (rotation == ROTATION_PER_PARTICLE) {
-        const mat rot = rodrigues(spin_of(grad_v), dt);
-        vec_store(acc, n, i, vec_add(mat_vec(rot, vec_load(acc, n, i)), da));
+        hvec_rotate(acc, n, i, rodrigues(spin_of(grad_v), dt), vec_zero());
+        hvec_add_store(acc, n, i, da);
     } else if (PRESENT(dacc)) {
         vec_store(dacc, n, i, da);
     }
@@ -136,7 +136,7 @@ FN void accumulate_increment(GLOBAL real *restrict acc, GLOBAL real *restrict da
 KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, const real dt,
                              CONSTANT real *prm, GLOBAL const int *restrict nbr_j,
                              GLOBAL const int *restrict contact_count,
-                             GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
+                             GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                              GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
                              GLOBAL real *restrict acc_diss) {
     const int i = ITEM_ID;
@@ -147,33 +147,33 @@ KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, const real d
 }
 #endif
 
-KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real dt,
-                              CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
-                              GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
-                              GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict rho,
-                              GLOBAL const real *restrict drho, GLOBAL const real *restrict mass,
-                              GLOBAL const real *restrict vol, GLOBAL const real *restrict acc_diss,
-                              GLOBAL real *restrict acc_shear, GLOBAL real *restrict pos,
-                              GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS
-                                  STRESS_DIV_PARAMS) {
+KERNEL void acoustic_pressure(
+    ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    GLOBAL const hreal *restrict rho, GLOBAL const real *restrict drho,
+    GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+    GLOBAL const real *restrict acc_diss, GLOBAL hreal *restrict acc_shear,
+    GLOBAL hreal *restrict pos,
+    GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS STRESS_DIV_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
     const real half_dt = R(0.5) * dt;
-    const real p_i = eos_pressure(prm, rho[i] + half_dt * drho[i]);
+    const real p_i = half_step_pressure(prm, rho[i], drho[i], half_dt);
 
     vec sum = vec_zero();
     const int count = nbr_count[i];
     for (int k = 0; k < count; ++k) {
         const int slot = NBR_AT(i, k);
         const int j = nbr_j[slot];
-        const real p_j = eos_pressure(prm, rho[j] + half_dt * drho[j]);
+        const real p_j = half_step_pressure(prm, rho[j], drho[j], half_dt);
         sum = vec_add(sum, riemann_pressure_pair(p_i, p_j, pair_dwv[slot],
                                                  pair_direction(pair_e, stride, slot)));
     }
     const vec a_p = vec_add(vec_scale(sum, vol[i] / mass[i]), vec_load(acc_diss, n, i));
 
-    vec a_s = vec_load(acc_shear, n, i);
+    vec a_s = hvec_load(acc_shear, n, i);
 #if SPH_HAS_ROTATION_AVG
     /* the body's mean rotation over the last substep (reduction.cl), which
      * turns both the accumulated acceleration and the stress divergence */
@@ -190,8 +190,7 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real 
          * da^s added after the rotation, the difference being the one-step
          * lag of the increment; 1.05 % with the mid-interval geometry
          * (README, "SPH-ENOG-A rotation"). */
-        a_s = mat_vec(rbar, vec_add(a_s, vec_load(dacc_shear, n, i)));
-        vec_store(acc_shear, n, i, a_s);
+        a_s = hvec_rotate(acc_shear, n, i, rbar, vec_load(dacc_shear, n, i));
     }
 #endif
 
@@ -216,7 +215,7 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, const real 
     /* rigid walls at the half-step position (sph_wall.h) */
     if (prm[PRM_WALL_COUNT] > R(0)) {
         const vec v_i = vec_load(vel, n, i);
-        const vec x_half = vec_axpy(vec_load(pos, n, i), half_dt, v_i);
+        const vec x_half = vec_axpy(hvec_load(pos, n, i), half_dt, v_i);
         a_s = vec_add(a_s, wall_acceleration(prm, x_half, v_i, p_i, vol[i] / mass[i]));
     }
 #endif
@@ -229,10 +228,10 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
                         GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
                         GLOBAL const real *restrict pair_inv_r, GLOBAL const real *restrict vel,
                         GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
-                        GLOBAL const real *restrict bmat, GLOBAL real *restrict rho,
+                        GLOBAL const real *restrict bmat, GLOBAL hreal *restrict rho,
                         GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss,
-                        GLOBAL real *restrict tau,
-                        GLOBAL real *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS
+                        GLOBAL hreal *restrict tau,
+                        GLOBAL hreal *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS
                             ART_OUT_PARAMS PLASTIC_OUT_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
@@ -261,8 +260,8 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
     }
 
     /* continuity and the second density half-step */
-    const real rho_half = rho[i] + half_dt * drho[i];
-    const real drho_new = rho_half * divergence;
+    const hreal rho_half = rho[i] + half_dt * drho[i];
+    const real drho_new = (real)rho_half * divergence;
     drho[i] = drho_new;
     rho[i] = rho_half + half_dt * drho_new;
     vec_store(acc_diss, n, i, vec_scale(dissipation, z * vol[i] / mass[i]));
@@ -273,19 +272,19 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
     const int formulation = RUNTIME_FORMULATION;
     (void)shear_modulus; /* used by the features compiled in below */
     (void)formulation;
-#if SPH_HAS_PLASTICITY
     real ratio;
-    const mat tau_new =
-        shear_stress_update(sym_load(tau, n, i), grad_v, prm, dt, plastic_strain, i, &ratio);
+#if SPH_HAS_PLASTICITY
+    const mat tau_new = shear_stress_advance(tau, n, i, grad_v, prm, dt, plastic_strain, &ratio);
     if (PRESENT(penalty_scale)) penalty_scale[i] = ratio;
 #else
-    const mat tau_new = jaumann_update(sym_load(tau, n, i), grad_v, shear_modulus, dt);
+    const mat tau_new = shear_stress_advance(tau, n, i, grad_v, prm, dt, 0, &ratio);
+    (void)ratio;
 #endif
-    sym_store(tau, n, i, tau_new);
 #if SPH_HAS_ART_STRESS
     if (formulation == FORMULATION_OAS && PRESENT(art_stress))
-        sym_store(art_stress, n, i,
-                  artificial_stress(tau_new, eos_pressure(prm, rho[i]), rho[i], prm[PRM_ART_EPS]));
+        sym_store(
+            art_stress, n, i,
+            artificial_stress(tau_new, eos_pressure(prm, rho[i]), (real)rho[i], prm[PRM_ART_EPS]));
 #endif
 #if SPH_HAS_PENALTY
     /* GNOG(-A): L_j enters the linear velocity prediction of the pair (003 eq. 44) */
@@ -322,7 +321,7 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
 #    if SPH_HAS_PENALTY
 #        define PENALTY_PARAMS                                                                     \
             , GLOBAL const real *restrict vel, GLOBAL const real *restrict gradv,                  \
-                GLOBAL real *restrict acc_shear
+                GLOBAL hreal *restrict acc_shear
 #    else
 #        define PENALTY_PARAMS
 #    endif
@@ -361,7 +360,7 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const re
                                  GLOBAL const real *restrict pair_dwv,
                                  GLOBAL const real *restrict pair_inv_r,
                                  GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
-                                 GLOBAL const real *restrict rho, GLOBAL const real *restrict tau,
+                                 GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
                                  GLOBAL real *restrict acc_stress PENALTY_PARAMS ART_IN_PARAMS
                                      PENALTY_SCALE_PARAMS PENALTY_AVG_PARAMS) {
     const int i = ITEM_ID;
@@ -369,7 +368,7 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const re
     const int stride = n * cap;
     const int formulation = RUNTIME_FORMULATION;
     (void)formulation; /* OG compiles in neither the artificial stress nor the penalty */
-    const mat tau_i = sym_load(tau, n, i);
+    const mat tau_i = hsym_load(tau, n, i);
     vec stress = vec_zero();
 #    if SPH_HAS_ART_STRESS
     const bool art = formulation == FORMULATION_OAS && PRESENT(art_stress);
@@ -395,13 +394,13 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const re
         const vec e = pair_direction(pair_e, stride, slot);
         const real dwv = pair_dwv[slot];
         /* (tau_i + tau_j) . grad_i W V_j, grad_i W V_j = dW V_j e_ij */
-        stress = vec_axpy(stress, dwv, mat_vec(mat_add(tau_i, sym_load(tau, n, j)), e));
+        stress = vec_axpy(stress, dwv, mat_vec(mat_add(tau_i, hsym_load(tau, n, j)), e));
 #    if SPH_HAS_ART_STRESS
         if (art) {
             const real w = kernel_w(prm, R(1) / pair_inv_r[slot]) * inv_wdp;
             real fn = R(1);
             for (int m = 0; m < (int)art_n; ++m) fn *= w; /* n is a whole number (4) */
-            art_sum = vec_axpy(art_sum, rho[j] * fn * dwv,
+            art_sum = vec_axpy(art_sum, (real)rho[j] * fn * dwv,
                                mat_vec(mat_add(art_i, sym_load(art_stress, n, j)), e));
         }
 #    endif

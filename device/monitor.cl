@@ -29,9 +29,9 @@
 
 FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *prm,
                         GLOBAL const int *nbr_count, GLOBAL const int *nbr_j,
-                        GLOBAL const real *pos, GLOBAL const real *vel, GLOBAL const real *vol,
+                        GLOBAL const hreal *pos, GLOBAL const real *vel, GLOBAL const real *vol,
                         GLOBAL const real *bmat, real *c) {
-    const vec x_i = vec_load(pos, n, i), v_i = vec_load(vel, n, i);
+    const vec x_i = hvec_load(pos, n, i), v_i = vec_load(vel, n, i);
     real state_sum = R(0);
     for (int a = 0; a < SPH_DIM; ++a) {
         c[SPH_MONITOR_MAX_X + a] = x_i.c[a];
@@ -46,7 +46,7 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *
     mat grad_sum = mat_zero();
     for (int k = 0; k < count; ++k) {
         const int j = nbr_j[NBR_AT(i, k)];
-        const vec d = vec_sub(x_i, vec_load(pos, n, j));
+        const vec d = hvec_diff(pos, n, i, j);
         const real r = sqrt(vec_dot(d, d));
         min_r = fmin(min_r, r);
         if (r <= R(0)) continue;
@@ -59,7 +59,7 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *
     real sum_w = R(0), sum_m2 = R(0);
     for (int k = 0; k < count; ++k) {
         const int j = nbr_j[NBR_AT(i, k)];
-        const vec d = vec_sub(x_i, vec_load(pos, n, j));
+        const vec d = hvec_diff(pos, n, i, j);
         const real r = sqrt(vec_dot(d, d));
         if (r <= R(0)) continue;
         const vec e = vec_scale(d, R(1) / r);
@@ -77,7 +77,7 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *
 #if SPH_OPENCL
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 monitor_reduce(const int n, const int cap, CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
-               GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pos,
+               GLOBAL const int *restrict nbr_j, GLOBAL const hreal *restrict pos,
                GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
                GLOBAL const real *restrict bmat, GLOBAL real *restrict partials) {
     __local real scratch[SPH_WG];

@@ -58,7 +58,7 @@ FN int cell_index_of(const vec x, GLOBAL const real *grid_geom, const int gx, co
 }
 
 /* Keys for the sort; items in [n, npad) pad the power-of-two sort. */
-KERNEL void cell_keys(ITEM_PARAM const int n, const int npad, GLOBAL const real *restrict pos,
+KERNEL void cell_keys(ITEM_PARAM const int n, const int npad, GLOBAL const hreal *restrict pos,
                       GLOBAL const real *restrict vel, const real geometry_shift,
                       GLOBAL const real *restrict grid_geom, const int gx, const int gy,
                       const int gz, GLOBAL ulong *restrict keys) {
@@ -70,7 +70,7 @@ KERNEL void cell_keys(ITEM_PARAM const int n, const int npad, GLOBAL const real 
     }
     /* the cell of the shifted position x + s v, where the pair geometry is
      * taken (see the top): the stencil then holds every pair within 2h */
-    const vec x = vec_axpy(vec_load(pos, n, i), geometry_shift, vec_load(vel, n, i));
+    const vec x = vec_axpy(hvec_load(pos, n, i), geometry_shift, vec_load(vel, n, i));
     const ulong cell = (ulong)cell_index_of(x, grid_geom, gx, gy, gz);
     keys[i] = (cell << 32) | (ulong)i;
 }
@@ -95,6 +95,10 @@ FN int key_cell(const ulong key) {
 DEFINE_PERMUTE(permute_real, real)
 DEFINE_PERMUTE(permute_int, int)
 DEFINE_PERMUTE(permute_u8, u8)
+#if SPH_MIXED
+/* the history fields of mixed precision (double) */
+DEFINE_PERMUTE(permute_hreal, hreal)
+#endif
 
 /* First and one-past-last sorted index of each occupied cell (the ranges of
  * empty cells were zero-filled before). */
@@ -149,7 +153,7 @@ FN mat refine_correction(const mat a, const mat b) {
  * i's row down (slots cap - 1, cap - 2, ...; sph_contact.h), and the row
  * overflows when both together exceed it. */
 KERNEL void build_neighbours(
-    ITEM_PARAM const int n, const int cap, CONSTANT real *prm, GLOBAL const real *restrict pos,
+    ITEM_PARAM const int n, const int cap, CONSTANT real *prm, GLOBAL const hreal *restrict pos,
     GLOBAL const real *restrict vel, const real geometry_shift, GLOBAL const real *restrict vol,
     const int gx, const int gy, const int gz, GLOBAL const ulong *restrict keys,
     GLOBAL const int *restrict cell_start, GLOBAL const int *restrict cell_end,
@@ -161,7 +165,7 @@ KERNEL void build_neighbours(
     const int stride = n * cap;
     const real cutoff = prm[PRM_CUTOFF];
     const real cutoff2 = cutoff * cutoff;
-    const vec x_i = vec_load(pos, n, i), v_i = vec_load(vel, n, i);
+    const vec v_i = vec_load(vel, n, i);
     /* the particle's cell from its sorted key (cell_keys), not recomputed:
      * every particle is searched from the cell it is filed under */
     const int cell = (int)(keys[i] >> 32);
@@ -203,7 +207,7 @@ KERNEL void build_neighbours(
                  * (x_i - x_j) + s (v_i - v_j) so that d_ji = -d_ij exactly,
                  * however the compiler contracts it: the pair terms stay
                  * antisymmetric and momentum exact */
-                const vec d = vec_axpy(vec_sub(x_i, vec_load(pos, n, j)), geometry_shift,
+                const vec d = vec_axpy(hvec_diff(pos, n, i, j), geometry_shift,
                                        vec_sub(v_i, vec_load(vel, n, j)));
                 const real r2 = vec_dot(d, d);
                 /* coincident particles have no direction: left out of the

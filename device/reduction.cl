@@ -37,12 +37,12 @@ FN void reduce_combine(real *acc, const real *c, const int nmax, const int ncomp
  * external acceleration: what the reference code's force array holds at the
  * start of an advection step (its density half-step resets it to the
  * dissipative force; reference notes §3.7, §4). */
-FN void rebuild_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const real *pos,
-                        GLOBAL const real *vel, GLOBAL const real *mass, GLOBAL const real *rho,
+FN void rebuild_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const hreal *pos,
+                        GLOBAL const real *vel, GLOBAL const real *mass, GLOBAL const hreal *rho,
                         GLOBAL real *vol, GLOBAL const real *acc_diss, real *c) {
     /* ContinuumVolumeUpdate of the reference: V = m / rho at each rebuild */
-    vol[i] = mass[i] / rho[i];
-    const vec x = vec_load(pos, n, i), v = vec_load(vel, n, i);
+    vol[i] = (real)(mass[i] / rho[i]);
+    const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
     for (int a = 0; a < SPH_DIM; ++a) {
         c[a] = -x.c[a];
         c[SPH_DIM + a] = x.c[a];
@@ -79,14 +79,14 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *
 
 /* Components (all by sum): kinetic energy, strain energy, momentum (d),
  * angular momentum about the origin (1 in 2D, 3 in 3D). */
-FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const real *pos,
-                            GLOBAL const real *vel, GLOBAL const real *mass, GLOBAL const real *rho,
-                            GLOBAL const real *tau, real *c) {
-    const vec x = vec_load(pos, n, i), v = vec_load(vel, n, i);
+FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const hreal *pos,
+                            GLOBAL const real *vel, GLOBAL const real *mass,
+                            GLOBAL const hreal *rho, GLOBAL const hreal *tau, real *c) {
+    const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
     const real m = mass[i];
     c[DIAG_KINETIC] = R(0.5) * m * vec_dot(v, v);
-    const real volume = m / rho[i];
-    c[DIAG_STRAIN] = volume * strain_energy_density(sym_load(tau, n, i), eos_pressure(prm, rho[i]),
+    const real volume = (real)(m / rho[i]);
+    c[DIAG_STRAIN] = volume * strain_energy_density(hsym_load(tau, n, i), eos_pressure(prm, rho[i]),
                                                     prm[PRM_G], prm[PRM_K]);
     for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
 #if SPH_DIM == 2
@@ -124,9 +124,9 @@ FN void group_reduce_store(__local real *scratch, const real *c, const int nmax,
 }
 
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const real *restrict pos,
+rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos,
                GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
-               GLOBAL const real *restrict rho, GLOBAL real *restrict vol,
+               GLOBAL const hreal *restrict rho, GLOBAL real *restrict vol,
                GLOBAL const real *restrict acc_diss, GLOBAL real *restrict partials) {
     __local real scratch[SPH_WG];
     real c[REBUILD_NCOMP];
@@ -163,9 +163,9 @@ substep_reduce(const int n, const real dt, CONSTANT real *prm, GLOBAL const real
 }
 
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-diagnostics_reduce(const int n, CONSTANT real *prm, GLOBAL const real *restrict pos,
+diagnostics_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
-                   GLOBAL const real *restrict rho, GLOBAL const real *restrict tau,
+                   GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
                    GLOBAL real *restrict partials) {
     __local real scratch[SPH_WG];
     real c[DIAG_NCOMP];

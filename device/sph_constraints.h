@@ -15,15 +15,16 @@
 
 #include "sph_vec.h"
 
-FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, const vec x_old,
-                         vec *x_new, vec *v_new) {
+/* Along the constrained axes: the prescribed velocity, and the step dx the
+ * position takes with it (dt v). */
+FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, vec *dx, vec *v_new) {
     if (fixed == 0) return;
     CONSTANT real *row = prm + PRM_CONSTRAINT + (fixed - 1) * PRM_CONSTRAINT_STRIDE;
     const int mask = (int)row[0];
     for (int a = 0; a < SPH_DIM; ++a) {
         if (!(mask & (1 << a))) continue;
         v_new->c[a] = row[1 + a];
-        x_new->c[a] = x_old.c[a] + dt * row[1 + a];
+        dx->c[a] = dt * row[1 + a];
     }
 }
 
@@ -31,21 +32,21 @@ FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, con
  * total-Lagrangian schemes: position Verlet (000 eqs. 27-29) with gravity,
  *     v <- v + dt (a + g),   x <- x + dt/2 (v_old + v_new),
  * then the particle's constraint.  `fixed` is absent (0) in scenes without
- * constraints. */
+ * constraints.  The position is a history field (hreal): the step is added
+ * in its precision. */
 FN void verlet_advance(CONSTANT real *prm, const int n, const int i, const real dt, vec acc,
-                       GLOBAL real *pos, GLOBAL real *vel, GLOBAL const u8 *fixed) {
+                       GLOBAL hreal *pos, GLOBAL real *vel, GLOBAL const u8 *fixed) {
     for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
     const vec v_old = vec_load(vel, n, i);
     vec v_new = vec_axpy(v_old, dt, acc);
-    const vec x_old = vec_load(pos, n, i);
-    vec x_new = vec_axpy(x_old, R(0.5) * dt, vec_add(v_old, v_new));
+    vec dx = vec_scale(vec_add(v_old, v_new), R(0.5) * dt);
 #if SPH_HAS_CLAMP
-    if (PRESENT(fixed)) apply_constraint(prm, fixed[i], dt, x_old, &x_new, &v_new);
+    if (PRESENT(fixed)) apply_constraint(prm, fixed[i], dt, &dx, &v_new);
 #else
     (void)fixed;
 #endif
     vec_store(vel, n, i, v_new);
-    vec_store(pos, n, i, x_new);
+    hvec_add_store(pos, n, i, dx);
 }
 
 #endif

@@ -81,17 +81,17 @@ FN real contact_pair_pressure(CONSTANT real *prm, const real r, const real u) {
 FN vec contact_acceleration(const int i, const int n, const int cap, const real half_dt,
                             CONSTANT real *prm, GLOBAL const int *restrict nbr_j,
                             GLOBAL const int *restrict contact_count,
-                            GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
+                            GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                             GLOBAL const real *restrict mass, GLOBAL const real *restrict vol) {
     const vec v_i = vec_load(vel, n, i);
-    const vec x_i = vec_axpy(vec_load(pos, n, i), half_dt, v_i);
     const real cutoff = prm[PRM_CUTOFF];
     vec sum = vec_zero();
     const int count = contact_count[i];
     for (int k = 0; k < count; ++k) {
         const int j = nbr_j[NBR_AT(i, cap - 1 - k)];
         const vec v_j = vec_load(vel, n, j);
-        const vec d = vec_sub(x_i, vec_axpy(vec_load(pos, n, j), half_dt, v_j));
+        /* at the half step, (x_i - x_j) + dt/2 (v_i - v_j): d_ji = -d_ij */
+        const vec d = vec_axpy(hvec_diff(pos, n, i, j), half_dt, vec_sub(v_i, v_j));
         const real r2 = vec_dot(d, d);
         if (r2 >= cutoff * cutoff || r2 <= R(0)) continue;
         const real r = sqrt(r2);

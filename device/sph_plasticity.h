@@ -51,6 +51,27 @@ FN mat shear_stress_update(const mat tau, const mat grad_v, CONSTANT real *prm, 
     return trial;
 }
 
+/* shear_stress_update on the stored stress of particle i: the trial stress
+ * is formed in the history precision (tau += dtau, hreal), then scaled by
+ * the return ratio when yielding.  Returns the new stress. */
+FN mat shear_stress_advance(GLOBAL hreal *tau, const int n, const int i, const mat grad_v,
+                            CONSTANT real *prm, const real dt, GLOBAL real *alpha, real *ratio) {
+    const mat tau_old = hsym_load(tau, n, i);
+    const mat increment = jaumann_increment(tau_old, grad_v, prm[PRM_G], dt);
+    hsym_add_store(tau, n, i, increment);
+    mat tau_new = mat_add(tau_old, increment);
+    *ratio = R(1);
+#if SPH_HAS_PLASTICITY
+    if (RUNTIME_PLASTIC && PRESENT(alpha)) {
+        tau_new = j2_radial_return(tau_new, prm, alpha, i, ratio);
+        if (*ratio != R(1)) hsym_scale_store(tau, n, i, *ratio);
+    }
+#else
+    (void)alpha;
+#endif
+    return tau_new;
+}
+
 #if SPH_HAS_TL_PLASTICITY
 /* ---- TLSPH: finite-strain J2 plasticity, F = F^e F^p -------------------
  *

@@ -9,6 +9,8 @@
  * Build-time symbols (set by the host, see host/features.c):
  *   SPH_DIM          2 or 3
  *   SPH_DOUBLE       1 for double precision, 0 for single
+ *   SPH_MIXED        1 for mixed precision (with SPH_DOUBLE 0): single
+ *                    arithmetic, the history fields in double (hreal below)
  *   SPH_KERNEL       smoothing kernel (KERNEL_* below)
  *   SPH_FORMULATION  FORMULATION_* (sph_constants.h)
  *   SPH_PLASTIC      1 when the material follows J2 plasticity (003 eqs. 11-14)
@@ -29,11 +31,17 @@
 
 #include "sph_constants.h"
 
+#ifndef SPH_MIXED
+#    define SPH_MIXED 0
+#endif
+
 #ifdef __OPENCL_VERSION__
 #    define SPH_OPENCL 1
 #    pragma OPENCL FP_CONTRACT OFF
-#    if SPH_DOUBLE
+#    if SPH_DOUBLE || SPH_MIXED
 #        pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#    endif
+#    if SPH_DOUBLE
 typedef double real;
 #    else
 typedef float real;
@@ -137,6 +145,19 @@ typedef uint64_t ulong;
 #endif
 
 #define R(x) ((real)(x))
+
+/* The history fields: the state a run sums from many small increments over
+ * its whole length (positions, density, shear stress, the accumulated shear
+ * acceleration).  In mixed precision (SPH_MIXED) they are stored and updated
+ * in double while all other arithmetic is single: an acoustic step moves a
+ * particle by ~1e-6 of its coordinate and changes the density by ~1e-7 of
+ * itself, which a float sum would round away (issue 5, "Precision modes").
+ * Otherwise hreal is real.  sph_vec.h has their loads and updates. */
+#if SPH_MIXED && !SPH_DOUBLE
+typedef double hreal;
+#else
+typedef real hreal;
+#endif
 
 #if SPH_DOUBLE
 #    define REAL_EPSILON 2.220446049250313e-16

@@ -29,6 +29,27 @@ FN vec vec_load(GLOBAL const real *buf, const int n, const int i) {
 FN void vec_store(GLOBAL real *buf, const int n, const int i, const vec v) {
     for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] = v.c[a];
 }
+/* History fields (hreal, sph_prelude.h): loads round to real, updates add a
+ * real increment in hreal, differences of two particles are taken in hreal
+ * (a relative position keeps the digits its absolute values would lose). */
+FN vec hvec_load(GLOBAL const hreal *buf, const int n, const int i) {
+    vec r;
+    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = (real)buf[a * n + i];
+    return r;
+}
+FN void hvec_store(GLOBAL hreal *buf, const int n, const int i, const vec v) {
+    for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] = (hreal)v.c[a];
+}
+/* buf_i += dv */
+FN void hvec_add_store(GLOBAL hreal *buf, const int n, const int i, const vec dv) {
+    for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] += (hreal)dv.c[a];
+}
+/* buf_i - buf_j */
+FN vec hvec_diff(GLOBAL const hreal *buf, const int n, const int i, const int j) {
+    vec r;
+    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = (real)(buf[a * n + i] - buf[a * n + j]);
+    return r;
+}
 FN vec vec_add(const vec x, const vec y) {
     vec r;
     for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] + y.c[a];
@@ -186,6 +207,42 @@ FN mat sym_load(GLOBAL const real *buf, const int n, const int i) {
 FN void sym_store(GLOBAL real *buf, const int n, const int i, const mat x) {
     for (int a = 0; a < SPH_DIM; ++a)
         for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] = x.m[a][b];
+}
+
+/* buf_i <- rot (buf_i + pre), the products summed in hreal; returns the new
+ * value.  Turns an accumulated acceleration with the body (003 eqs. 34,
+ * 42, 47) without rounding it to real. */
+FN vec hvec_rotate(GLOBAL hreal *buf, const int n, const int i, const mat rot, const vec pre) {
+    hreal s[SPH_DIM];
+    for (int a = 0; a < SPH_DIM; ++a) s[a] = buf[a * n + i] + (hreal)pre.c[a];
+    vec r;
+    for (int a = 0; a < SPH_DIM; ++a) {
+        hreal t = (hreal)0;
+        for (int b = 0; b < SPH_DIM; ++b) t += (hreal)rot.m[a][b] * s[b];
+        buf[a * n + i] = t;
+        r.c[a] = (real)t;
+    }
+    return r;
+}
+FN mat hsym_load(GLOBAL const hreal *buf, const int n, const int i) {
+    mat r;
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = (real)buf[sym_index(a, b) * n + i];
+    return r;
+}
+FN void hsym_store(GLOBAL hreal *buf, const int n, const int i, const mat x) {
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] = (hreal)x.m[a][b];
+}
+/* buf_i += dx (dx symmetric) */
+FN void hsym_add_store(GLOBAL hreal *buf, const int n, const int i, const mat dx) {
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] += (hreal)dx.m[a][b];
+}
+/* buf_i *= s */
+FN void hsym_scale_store(GLOBAL hreal *buf, const int n, const int i, const real s) {
+    for (int a = 0; a < SPH_DIM; ++a)
+        for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] *= (hreal)s;
 }
 
 /* Spin tensor Omega = (L - L^T)/2 <-> its independent components

@@ -98,11 +98,13 @@ FN vec tl_pair_direction(GLOBAL const real *restrict pair_e, const int stride, c
     return e;
 }
 
-/* x^{n+1/2} = x^n + dt/2 v^n, evaluated where needed so that no pass writes
- * what its neighbours read. */
-FN vec tl_half_position(GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
-                        const int n, const int i, const real half_dt) {
-    return vec_axpy(vec_load(pos, n, i), half_dt, vec_load(vel, n, i));
+/* x_i - x_j at the half step, x^{n+1/2} = x^n + dt/2 v^n, evaluated where
+ * needed so that no pass writes what its neighbours read; the difference of
+ * the positions is taken in their (history) precision. */
+FN vec tl_half_separation(GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
+                          const int n, const int i, const int j, const real half_dt) {
+    return vec_axpy(hvec_diff(pos, n, i, j), half_dt,
+                    vec_sub(vec_load(vel, n, i), vec_load(vel, n, j)));
 }
 
 /* Saint Venant-Kirchhoff (004 eq. 24): P = F S, S = lambda tr(E) I + 2 mu E,
@@ -159,15 +161,14 @@ FN real tl_hourglass_modulus(CONSTANT real *prm, const real plastic_strain, cons
 KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
                            GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
                            GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-                           GLOBAL const real *restrict pos, GLOBAL const real *restrict vel,
+                           GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                            GLOBAL const real *restrict bmat, GLOBAL real *restrict defgrad,
-                           GLOBAL real *restrict pk1, GLOBAL real *restrict rho,
-                           GLOBAL real *restrict tau TL_PLASTIC_STATE_PARAMS) {
+                           GLOBAL real *restrict pk1, GLOBAL hreal *restrict rho,
+                           GLOBAL hreal *restrict tau TL_PLASTIC_STATE_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
     const real half_dt = R(0.5) * dt;
-    const vec x_i = tl_half_position(pos, vel, n, i, half_dt);
 
     /* sum_j dW V0_j (x_j - x_i) (x) e_ij; F = that times B0_i (B symmetric) */
     mat g = mat_zero();
@@ -175,7 +176,7 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt,
     for (int k = 0; k < count; ++k) {
         const int slot = NBR_AT(i, k);
         const int j = nbr_j[slot];
-        const vec x_ji = vec_sub(tl_half_position(pos, vel, n, j, half_dt), x_i);
+        const vec x_ji = tl_half_separation(pos, vel, n, j, i, half_dt);
         g = mat_add_outer(g, pair_dwv[slot], x_ji, tl_pair_direction(pair_e, stride, slot));
     }
     const mat f = mat_mul(g, sym_load(bmat, n, i));
@@ -211,24 +212,23 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt,
     rho[i] = prm[PRM_RHO0] / det;
     const real mean = mat_trace(sigma) / R(SPH_DIM);
     for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= mean;
-    sym_store(tau, n, i, sigma);
+    hsym_store(tau, n, i, sigma);
 }
 
 KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt,
                             CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
                             GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
                             GLOBAL const real *restrict pair_dwv,
-                            GLOBAL const real *restrict pair_inv_r, GLOBAL const real *restrict pos,
-                            GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
-                            GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat,
-                            GLOBAL const real *restrict defgrad, GLOBAL const real *restrict pk1,
-                            GLOBAL real *restrict acc_shear,
+                            GLOBAL const real *restrict pair_inv_r,
+                            GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
+                            GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+                            GLOBAL const real *restrict bmat, GLOBAL const real *restrict defgrad,
+                            GLOBAL const real *restrict pk1, GLOBAL hreal *restrict acc_shear,
                             GLOBAL const real *restrict pair_w TL_PLASTIC_SWITCH_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
     const real half_dt = R(0.5) * dt;
-    const vec x_i = tl_half_position(pos, vel, n, i, half_dt);
     const mat f_i = mat_load(defgrad, n, i);
     const real alpha = prm[PRM_HOURGLASS];
     const real youngs = tl_youngs_modulus(prm);
@@ -255,7 +255,7 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt
             /* 002 hourglass control, pair term of the header */
             const real r0 = R(1) / pair_inv_r[slot];
             const vec big_x = vec_scale(e, r0);
-            const vec x_ij = vec_sub(x_i, tl_half_position(pos, vel, n, j, half_dt));
+            const vec x_ij = tl_half_separation(pos, vel, n, i, j, half_dt);
             const real r2 = vec_dot(x_ij, x_ij);
             if (r2 > R(0)) {
                 const vec hat = vec_scale(x_ij, R(1) / sqrt(r2));
@@ -285,15 +285,15 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt
     acc = vec_axpy(acc, hourglass_scale * v_over_m, sum_hg);
     /* the acceleration goes to the acc_shear buffer, which TLSPH does not
      * otherwise use, for tl_update */
-    vec_store(acc_shear, n, i, acc);
+    hvec_store(acc_shear, n, i, acc);
 }
 
 KERNEL void tl_update(ITEM_PARAM const int n, const real dt, CONSTANT real *prm,
-                      GLOBAL const real *restrict acc_shear, GLOBAL real *restrict pos,
+                      GLOBAL const hreal *restrict acc_shear, GLOBAL hreal *restrict pos,
                       GLOBAL real *restrict vel TL_CLAMP_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    verlet_advance(prm, n, i, dt, vec_load(acc_shear, n, i), pos, vel, TL_CLAMP_ARG);
+    verlet_advance(prm, n, i, dt, hvec_load(acc_shear, n, i), pos, vel, TL_CLAMP_ARG);
 }
 
 #endif

@@ -31,6 +31,11 @@ const cpu_kernels *cpu_kernels_for(int dim, bool double_precision) {
     return double_precision ? &cpu_3d_f64 : &cpu_3d_f32;
 }
 
+const cpu_kernels *cpu_kernels_for_features(const sph_features *f) {
+    if (f->mixed_precision) return f->dim == 2 ? &cpu_2d_mixed : &cpu_3d_mixed;
+    return cpu_kernels_for(f->dim, f->double_precision);
+}
+
 /* Run the loops on the OpenMP team?  With OMP_WAIT_POLICY=passive every
  * barrier puts the threads to sleep, and waking a sleeping vCPU costs far
  * more than a small scene's substep: on the 2-core CI machine the 1612-particle
@@ -45,21 +50,34 @@ static bool use_threads(int n) {
     return n >= (passive ? 4096 : 1024);
 }
 
+static size_t field_esize(const sph_backend *be, sph_field f) {
+    return sph_field_element_size(be->fields[f].type, &be->features);
+}
 static size_t field_bytes(const sph_backend *be, sph_field f) {
-    const sph_field_info *info = &be->fields[f];
-    return (size_t)be->n * (size_t)info->components *
-           sph_field_element_size(info->type, be->features.double_precision);
+    return (size_t)be->n * (size_t)be->fields[f].components * field_esize(be, f);
 }
 
-static void set_real(const cpu_impl *c, void *buf, size_t index, double value) {
-    if (c->k->double_precision)
+/* A float or double element (esize bytes) as double. */
+static void set_value(void *buf, size_t esize, size_t index, double value) {
+    if (esize == sizeof(double))
         ((double *)buf)[index] = value;
     else
         ((float *)buf)[index] = (float)value;
 }
+static double get_value(const void *buf, size_t esize, size_t index) {
+    return esize == sizeof(double) ? ((const double *)buf)[index]
+                                   : (double)((const float *)buf)[index];
+}
+/* a field's element, or a buffer in the arithmetic precision */
+static void set_field(const sph_backend *be, sph_field f, size_t index, double value) {
+    const cpu_impl *c = be->impl;
+    set_value(c->b.field[f], field_esize(be, f), index, value);
+}
+static void set_real(const cpu_impl *c, void *buf, size_t index, double value) {
+    set_value(buf, c->real_size, index, value);
+}
 static double get_real(const cpu_impl *c, const void *buf, size_t index) {
-    return c->k->double_precision ? ((const double *)buf)[index]
-                                  : (double)((const float *)buf)[index];
+    return get_value(buf, c->real_size, index);
 }
 
 #define PAIRS_RECORD "neighbour lists and frozen pair geometry"
@@ -120,13 +138,13 @@ static sph_status cpu_upload(sph_backend *be, const sph_particles *p, sph_error 
     for (int f = 0; f < FIELD_COUNT; ++f)
         if (c->b.field[f]) memset(c->b.field[f], 0, field_bytes(be, (sph_field)f));
     for (size_t k = 0; k < (size_t)d * n; ++k) {
-        set_real(c, c->b.field[FIELD_POS], k, p->pos[k]);
-        set_real(c, c->b.field[FIELD_VEL], k, p->vel[k]);
+        set_field(be, FIELD_POS, k, p->pos[k]);
+        set_field(be, FIELD_VEL, k, p->vel[k]);
     }
     for (int i = 0; i < n; ++i) {
-        set_real(c, c->b.field[FIELD_MASS], i, p->mass[i]);
-        set_real(c, c->b.field[FIELD_RHO], i, p->rho[i]);
-        set_real(c, c->b.field[FIELD_VOL], i, p->mass[i] / p->rho[i]);
+        set_field(be, FIELD_MASS, (size_t)i, p->mass[i]);
+        set_field(be, FIELD_RHO, (size_t)i, p->rho[i]);
+        set_field(be, FIELD_VOL, (size_t)i, p->mass[i] / p->rho[i]);
     }
     memcpy(c->b.field[FIELD_ID], p->id, (size_t)n * sizeof(int32_t));
     if (c->b.field[FIELD_BODY]) memcpy(c->b.field[FIELD_BODY], p->body, (size_t)n);
@@ -163,7 +181,7 @@ static void permute_fields(sph_backend *be, cpu_impl *c) {
     for (int f = 0; f < FIELD_COUNT; ++f) {
         if (!c->b.field[f]) continue;
         const sph_field_info *info = &be->fields[f];
-        const size_t esize = sph_field_element_size(info->type, be->features.double_precision);
+        const size_t esize = sph_field_element_size(info->type, &be->features);
         const char *src = c->b.field[f];
         char *dst = c->spare[f];
         for (int comp = 0; comp < info->components; ++comp) {
@@ -264,9 +282,10 @@ static sph_status cpu_download(sph_backend *be, sph_field f, void *host, sph_err
     if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
     const size_t count = (size_t)be->n * (size_t)info->components;
-    if (info->type == FIELD_TYPE_REAL) {
+    if (sph_field_is_real(info->type)) {
         double *out = host;
-        for (size_t k = 0; k < count; ++k) out[k] = get_real(c, c->b.field[f], k);
+        const size_t esize = field_esize(be, f);
+        for (size_t k = 0; k < count; ++k) out[k] = get_value(c->b.field[f], esize, k);
     } else {
         memcpy(host, c->b.field[f], field_bytes(be, f));
     }
@@ -278,9 +297,9 @@ static sph_status cpu_upload_field(sph_backend *be, sph_field f, const void *hos
     if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
     const size_t count = (size_t)be->n * (size_t)info->components;
-    if (info->type == FIELD_TYPE_REAL) {
+    if (sph_field_is_real(info->type)) {
         const double *in = host;
-        for (size_t k = 0; k < count; ++k) set_real(c, c->b.field[f], k, in[k]);
+        for (size_t k = 0; k < count; ++k) set_field(be, f, k, in[k]);
     } else {
         memcpy(c->b.field[f], host, field_bytes(be, f));
     }
@@ -375,7 +394,7 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     be->features = *f;
     be->n = n;
     sph_fields_layout(f, be->fields);
-    c->k = cpu_kernels_for(f->dim, f->double_precision);
+    c->k = cpu_kernels_for_features(f);
     c->real_size = f->double_precision ? sizeof(double) : sizeof(float);
     c->b.n = n;
     c->b.parallel = use_threads(n);
@@ -383,8 +402,8 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
              c->b.parallel ? omp_get_max_threads() : 1, c->b.parallel ? "s" : "");
     snprintf(be->build_options, sizeof be->build_options,
              "native: dim=%d precision=%s rotation=%s clamp=%d bodies=%d", f->dim,
-             f->double_precision ? "double" : "single", sph_rotation_name(f->rotation),
-             f->has_clamp ? 1 : 0, f->nbodies);
+             sph_precision_name(f), sph_rotation_name(f->rotation), f->has_clamp ? 1 : 0,
+             f->nbodies);
 
     /* before allocating: what the run needs must fit in the memory */
     const int cap0 = sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]);

@@ -32,6 +32,7 @@ typedef struct {
 typedef struct {
     int dim;
     bool double_precision;
+    bool mixed_precision; /* single arithmetic, history fields double */
     /* V = m/rho; out: -min x (dim), max x (dim), max |v|^2, max 4h|a| */
     void (*rebuild_reduce)(cpu_buffers *b, double *out);
     /* keys of the cells of x + geometry_shift v (neighbour_build.cl) */
@@ -78,7 +79,10 @@ typedef struct {
     int (*tl_j2_update)(const double *prm, const double *f, double *state, double *tau);
 } cpu_kernels;
 
-extern const cpu_kernels cpu_2d_f64, cpu_2d_f32, cpu_3d_f64, cpu_3d_f32;
+extern const cpu_kernels cpu_2d_f64, cpu_2d_f32, cpu_2d_mixed, cpu_3d_f64, cpu_3d_f32, cpu_3d_mixed;
+/* the double or single instance (physics probes) */
 const cpu_kernels *cpu_kernels_for(int dim, bool double_precision);
+/* the instance of a run's dimension and precision mode */
+const cpu_kernels *cpu_kernels_for_features(const sph_features *f);
 
 #endif

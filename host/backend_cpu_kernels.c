@@ -44,17 +44,18 @@
         }                                                                                          \
     } while (0)
 
-#define F_REAL(b, f) ((real *)(b)->field[f])
-#define F_U8(b, f)   ((u8 *)(b)->field[f])
-#define F_INT(b, f)  ((int *)(b)->field[f])
+#define F_REAL(b, f)  ((real *)(b)->field[f])
+#define F_HREAL(b, f) ((hreal *)(b)->field[f]) /* history fields (fields.c) */
+#define F_U8(b, f)    ((u8 *)(b)->field[f])
+#define F_INT(b, f)   ((int *)(b)->field[f])
 
 static void rebuild_reduce_impl(cpu_buffers *b, double *out) {
     real result[REBUILD_NCOMP];
     CONSTANT real *prm = (const real *)b->prm;
 #pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, REBUILD_NCOMP, REBUILD_NCOMP, result,
-                 rebuild_contrib(i, n_, prm, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
-                                 F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
+                 rebuild_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                                 F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
                                  F_REAL(b, FIELD_ACC_DISS), c_));
     for (int k = 0; k < REBUILD_NCOMP; ++k) out[k] = (double)result[k];
 }
@@ -70,7 +71,7 @@ static void cell_keys_impl(cpu_buffers *b, const sph_grid *g, double geometry_sh
     const int n = b->n;
 #pragma omp parallel for schedule(static) if (b->parallel)
     for (int i = 0; i < n; ++i)
-        cell_keys(i, n, n, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), (real)geometry_shift,
+        cell_keys(i, n, n, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), (real)geometry_shift,
                   (const real *)b->grid_geom, g->dims[0], g->dims[1], g->dims[2], b->keys);
 }
 
@@ -81,7 +82,7 @@ static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g, double geome
 #pragma omp parallel for schedule(static) if (b->parallel)
     for (int i = 0; i < n; ++i)
         build_neighbours(
-            i, n, b->cap, (const real *)b->prm, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+            i, n, b->cap, (const real *)b->prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
             (real)geometry_shift, F_REAL(b, FIELD_VOL), g->dims[0], g->dims[1], g->dims[2],
             (const ulong *)b->keys, b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
             (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r, F_REAL(b, FIELD_BMAT),
@@ -106,17 +107,17 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             tl_deformation(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                           (const real *)b->pair_dwv, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                           (const real *)b->pair_dwv, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                            F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD), F_REAL(b, FIELD_PK1),
-                           F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_TAU),
+                           F_HREAL(b, FIELD_RHO), F_HREAL(b, FIELD_TAU),
                            F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PLASTIC_CINV));
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             tl_acceleration(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                             (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
-                            F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                            F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
                             F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD),
-                            F_REAL(b, FIELD_PK1), F_REAL(b, FIELD_ACC_SHEAR),
+                            F_REAL(b, FIELD_PK1), F_HREAL(b, FIELD_ACC_SHEAR),
                             (const real *)b->pair_w, F_REAL(b, FIELD_PLASTIC_STRAIN));
 #pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g) {
@@ -124,7 +125,7 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
             real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
             reduce_identity(acc, 1, ncomp);
             for (int i = g * SPH_WG; i < end; ++i) {
-                tl_update(i, n, dt, prm, F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_POS),
+                tl_update(i, n, dt, prm, F_HREAL(b, FIELD_ACC_SHEAR), F_HREAL(b, FIELD_POS),
                           F_REAL(b, FIELD_VEL), F_U8(b, FIELD_FIXED));
                 substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
                                 F_U8(b, FIELD_BODY), c);
@@ -162,17 +163,17 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
         if (contact_count) {
 #pragma omp for schedule(static)
             for (int i = 0; i < n; ++i)
-                acoustic_contact(i, n, cap, dt, prm, b->nbr_j, contact_count, F_REAL(b, FIELD_POS),
+                acoustic_contact(i, n, cap, dt, prm, b->nbr_j, contact_count, F_HREAL(b, FIELD_POS),
                                  F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
                                  F_REAL(b, FIELD_ACC_DISS));
         }
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             acoustic_pressure(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                              (const real *)b->pair_dwv, F_REAL(b, FIELD_RHO),
+                              (const real *)b->pair_dwv, F_HREAL(b, FIELD_RHO),
                               F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                              F_REAL(b, FIELD_ACC_DISS), F_REAL(b, FIELD_ACC_SHEAR),
-                              F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                              F_REAL(b, FIELD_ACC_DISS), F_HREAL(b, FIELD_ACC_SHEAR),
+                              F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                               F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY),
                               F_U8(b, FIELD_FIXED), F_REAL(b, FIELD_ACC_STRESS));
 #pragma omp for schedule(static)
@@ -183,8 +184,8 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                     i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                     (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_REAL(b, FIELD_VEL),
                     F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
-                    F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_ACC_DISS),
-                    F_REAL(b, FIELD_TAU), F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
+                    F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_ACC_DISS),
+                    F_HREAL(b, FIELD_TAU), F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
                     F_REAL(b, FIELD_SPIN), F_REAL(b, FIELD_GRADV), F_REAL(b, FIELD_ART_STRESS),
                     F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE));
             real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
@@ -204,9 +205,9 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                 acoustic_shear_force(
                     i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                     (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_REAL(b, FIELD_MASS),
-                    F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_RHO), F_REAL(b, FIELD_TAU),
+                    F_REAL(b, FIELD_VOL), F_HREAL(b, FIELD_RHO), F_HREAL(b, FIELD_TAU),
                     F_REAL(b, FIELD_ACC_STRESS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_GRADV),
-                    F_REAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_ART_STRESS),
+                    F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_ART_STRESS),
                     F_REAL(b, FIELD_PENALTY_SCALE), F_REAL(b, FIELD_DACC_SHEAR));
         }
     }
@@ -220,9 +221,9 @@ static void diagnostics_impl(cpu_buffers *b, double *out) {
     real result[DIAG_NCOMP];
 #pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
-                 diagnostics_contrib(i, n_, prm, F_REAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
-                                     F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_RHO),
-                                     F_REAL(b, FIELD_TAU), c_));
+                 diagnostics_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                                     F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO),
+                                     F_HREAL(b, FIELD_TAU), c_));
     for (int k = 0; k < DIAG_NCOMP; ++k) out[k] = (double)result[k];
 }
 
@@ -341,7 +342,7 @@ static void monitor_impl(cpu_buffers *b, double *out) {
     const int cap = b->cap;
 #pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, MONITOR_NCOMP, MONITOR_NCOMP, result,
-                 monitor_contrib(i, n_, cap, prm, b->nbr_count, b->nbr_j, F_REAL(b, FIELD_POS),
+                 monitor_contrib(i, n_, cap, prm, b->nbr_count, b->nbr_j, F_HREAL(b, FIELD_POS),
                                  F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
                                  c_));
     for (int k = 0; k < MONITOR_NCOMP; ++k) out[k] = (double)result[k];
@@ -388,6 +389,7 @@ static void stress_output_impl(const double *prm_in, int n, const double *rho, c
 const cpu_kernels CPU_VARIANT = {
     .dim = SPH_DIM,
     .double_precision = SPH_DOUBLE,
+    .mixed_precision = SPH_MIXED,
     .rebuild_reduce = rebuild_reduce_impl,
     .cell_keys = cell_keys_impl,
     .build_neighbours = build_neighbours_impl,

@@ -49,9 +49,9 @@ enum {
 };
 
 typedef struct {
-    sph_cl_kernel cell_keys, permute_real, permute_int, permute_u8, cell_ranges, build, sort_local,
-        merge_local, sort_global, pressure, velocity_terms, rebuild_reduce, substep_reduce,
-        diagnostics_reduce, finalize;
+    sph_cl_kernel cell_keys, permute_real, permute_hreal, permute_int, permute_u8, cell_ranges,
+        build, sort_local, merge_local, sort_global, pressure, velocity_terms, rebuild_reduce,
+        substep_reduce, diagnostics_reduce, finalize;
     sph_cl_kernel shear_force; /* stress-divergence formulations only */
     sph_cl_kernel monitor_reduce;
     sph_cl_kernel contact;                                    /* scenes with several bodies only */
@@ -180,7 +180,7 @@ static void release(cl_mem *m) {
 static size_t field_bytes(const sph_backend *be, sph_field f) {
     const sph_field_info *info = &be->fields[f];
     return (size_t)be->n * (size_t)info->components *
-           sph_field_element_size(info->type, be->features.double_precision);
+           sph_field_element_size(info->type, &be->features);
 }
 
 /* The resource table points at the live handles and scalars, so swapped
@@ -253,29 +253,33 @@ static sph_cl_arg real_arg(const ocl_impl *o, const char *name, real_scalar *s, 
 /* Reads of reduced values (a few reals, every substep) use a stack buffer;
  * field downloads allocate. */
 #define SMALL_READ 32
-static sph_status read_reals(ocl_impl *o, cl_mem buf, size_t offset, size_t count, double *out,
-                             sph_error *err) {
-    const size_t bytes = count * o->real_size;
+static sph_status read_values(ocl_impl *o, cl_mem buf, size_t esize, size_t offset, size_t count,
+                              double *out, sph_error *err) {
+    const size_t bytes = count * esize;
     double small[SMALL_READ];
     void *tmp = count <= SMALL_READ ? (void *)small : malloc(bytes);
     if (!tmp) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
-    const cl_int rc = clEnqueueReadBuffer(o->queue, buf, CL_TRUE, offset * o->real_size, bytes, tmp,
-                                          0, NULL, NULL);
+    const cl_int rc =
+        clEnqueueReadBuffer(o->queue, buf, CL_TRUE, offset * esize, bytes, tmp, 0, NULL, NULL);
     if (rc == CL_SUCCESS)
         for (size_t k = 0; k < count; ++k)
-            out[k] =
-                o->real_size == sizeof(double) ? ((double *)tmp)[k] : (double)((float *)tmp)[k];
+            out[k] = esize == sizeof(double) ? ((double *)tmp)[k] : (double)((float *)tmp)[k];
     if (tmp != (void *)small) free(tmp);
     return cl_check(rc, "reading a device buffer", err);
 }
+/* a buffer in the arithmetic precision */
+static sph_status read_reals(ocl_impl *o, cl_mem buf, size_t offset, size_t count, double *out,
+                             sph_error *err) {
+    return read_values(o, buf, o->real_size, offset, count, out, err);
+}
 
-static sph_status write_reals(ocl_impl *o, cl_mem buf, const double *values, size_t count,
-                              sph_error *err) {
-    const size_t bytes = count * o->real_size;
+static sph_status write_values(ocl_impl *o, cl_mem buf, size_t esize, const double *values,
+                               size_t count, sph_error *err) {
+    const size_t bytes = count * esize;
     void *tmp = malloc(bytes);
     if (!tmp) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     for (size_t k = 0; k < count; ++k) {
-        if (o->real_size == sizeof(double))
+        if (esize == sizeof(double))
             ((double *)tmp)[k] = values[k];
         else
             ((float *)tmp)[k] = (float)values[k];
@@ -283,6 +287,16 @@ static sph_status write_reals(ocl_impl *o, cl_mem buf, const double *values, siz
     const cl_int rc = clEnqueueWriteBuffer(o->queue, buf, CL_TRUE, 0, bytes, tmp, 0, NULL, NULL);
     free(tmp);
     return cl_check(rc, "writing a device buffer", err);
+}
+static sph_status write_reals(ocl_impl *o, cl_mem buf, const double *values, size_t count,
+                              sph_error *err) {
+    return write_values(o, buf, o->real_size, values, count, err);
+}
+/* a whole floating-point field, in its own precision */
+static sph_status write_field(sph_backend *be, ocl_impl *o, sph_field f, const double *values,
+                              sph_error *err) {
+    return write_values(o, o->field[f], sph_field_element_size(be->fields[f].type, &be->features),
+                        values, (size_t)be->n * (size_t)be->fields[f].components, err);
 }
 
 /* Two-stage reduction into `result` (device) of `ncomp` components. */
@@ -330,11 +344,11 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     double *vol = malloc((size_t)n * sizeof(double));
     if (!vol) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     for (int i = 0; i < n; ++i) vol[i] = p->mass[i] / p->rho[i];
-    sph_status st = write_reals(o, o->field[FIELD_POS], p->pos, (size_t)d * n, err);
-    if (!st) st = write_reals(o, o->field[FIELD_VEL], p->vel, (size_t)d * n, err);
-    if (!st) st = write_reals(o, o->field[FIELD_MASS], p->mass, (size_t)n, err);
-    if (!st) st = write_reals(o, o->field[FIELD_RHO], p->rho, (size_t)n, err);
-    if (!st) st = write_reals(o, o->field[FIELD_VOL], vol, (size_t)n, err);
+    sph_status st = write_field(be, o, FIELD_POS, p->pos, err);
+    if (!st) st = write_field(be, o, FIELD_VEL, p->vel, err);
+    if (!st) st = write_field(be, o, FIELD_MASS, p->mass, err);
+    if (!st) st = write_field(be, o, FIELD_RHO, p->rho, err);
+    if (!st) st = write_field(be, o, FIELD_VOL, vol, err);
     free(vol);
     if (st) return st;
     cl_int rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_ID], CL_TRUE, 0,
@@ -374,9 +388,13 @@ static sph_status permute_fields(sph_backend *be, ocl_impl *o, sph_error *err) {
         const sph_cl_arg args[] = {{"ncomp", sizeof(cl_int), &ncomp},
                                    {"src", sizeof(cl_mem), &o->field[f]},
                                    {"dst", sizeof(cl_mem), &o->spare[f]}};
-        sph_cl_kernel *k = be->fields[f].type == FIELD_TYPE_REAL    ? &o->k.permute_real
-                           : be->fields[f].type == FIELD_TYPE_INT32 ? &o->k.permute_int
-                                                                    : &o->k.permute_u8;
+        const sph_field_type type = be->fields[f].type;
+        /* a history field is real unless the run is mixed (fields.h) */
+        const bool hreal_double = type == FIELD_TYPE_HREAL && be->features.mixed_precision;
+        sph_cl_kernel *k = hreal_double               ? &o->k.permute_hreal
+                           : sph_field_is_real(type)  ? &o->k.permute_real
+                           : type == FIELD_TYPE_INT32 ? &o->k.permute_int
+                                                      : &o->k.permute_u8;
         sph_status st = launch(o, k, (size_t)be->n, o->wg, args, 3, err);
         if (st) return st;
         cl_mem t = o->field[f];
@@ -510,8 +528,9 @@ static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_err
     ocl_impl *o = be->impl;
     if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
-    if (info->type == FIELD_TYPE_REAL)
-        return read_reals(o, o->field[f], 0, (size_t)be->n * (size_t)info->components, host, err);
+    if (sph_field_is_real(info->type))
+        return read_values(o, o->field[f], sph_field_element_size(info->type, &be->features), 0,
+                           (size_t)be->n * (size_t)info->components, host, err);
     return cl_check(clEnqueueReadBuffer(o->queue, o->field[f], CL_TRUE, 0, field_bytes(be, f), host,
                                         0, NULL, NULL),
                     "reading a field", err);
@@ -521,8 +540,7 @@ static sph_status ocl_upload_field(sph_backend *be, sph_field f, const void *hos
     ocl_impl *o = be->impl;
     if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
     const sph_field_info *info = &be->fields[f];
-    if (info->type == FIELD_TYPE_REAL)
-        return write_reals(o, o->field[f], host, (size_t)be->n * (size_t)info->components, err);
+    if (sph_field_is_real(info->type)) return write_field(be, o, f, host, err);
     return cl_check(clEnqueueWriteBuffer(o->queue, o->field[f], CL_TRUE, 0, field_bytes(be, f),
                                          host, 0, NULL, NULL),
                     "writing a field", err);
@@ -644,6 +662,12 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
             sph_cl_kernel_create(o->program, table[t].name, o->res, RES_COUNT, table[t].k, err);
         if (st) return st;
     }
+    /* the double history fields exist only in mixed precision */
+    if (o->be->features.mixed_precision) {
+        sph_status st = sph_cl_kernel_create(o->program, "permute_hreal", o->res, RES_COUNT,
+                                             &o->k.permute_hreal, err);
+        if (st) return st;
+    }
     /* the program has the TLSPH passes only when built for TLSPH */
     if (o->be->features.formulation == SPH_FORMULATION_TLSPH) {
         sph_status st = sph_cl_kernel_create(o->program, "tl_deformation", o->res, RES_COUNT,
@@ -703,11 +727,11 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     sph_fields_layout(f, be->fields);
     sph_status st = sph_opencl_device_info_get(device_index, &o->dev, err);
     if (st) goto fail;
-    if (f->double_precision && !o->dev.has_fp64) {
+    if ((f->double_precision || f->mixed_precision) && !o->dev.has_fp64) {
         st = sph_fail(err, SPH_ERR_INPUT,
-                      "OpenCL device %d (%s) has no double precision (cl_khr_fp64); run with "
-                      "--precision single",
-                      device_index, o->dev.name);
+                      "OpenCL device %d (%s) has no double precision (cl_khr_fp64), which %s "
+                      "precision needs; run with --precision single",
+                      device_index, o->dev.name, sph_precision_name(f));
         goto fail;
     }
     sph_format(be->device_name, sizeof be->device_name, "%s (%s, %s)", o->dev.name,

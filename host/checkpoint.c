@@ -10,7 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define CHECKPOINT_FORMAT 2
+#define CHECKPOINT_FORMAT 3  /* 3: the precision as a name (mixed precision) */
 #define DIAG_VALUES       10 /* kinetic, strain, momentum[3], angular[3], monitor[2] */
 
 void sph_checkpoint_path(const char *run_dir, char *buf, size_t len) {
@@ -40,12 +40,12 @@ static void diag_unpack(const double *in, sph_diagnostics *d) {
 }
 
 static hid_t field_memtype(sph_field_type t) {
-    return t == FIELD_TYPE_REAL ? H5T_NATIVE_DOUBLE
+    return sph_field_is_real(t) ? H5T_NATIVE_DOUBLE
                                 : (t == FIELD_TYPE_INT32 ? H5T_NATIVE_INT32 : H5T_NATIVE_UINT8);
 }
 
 static size_t field_host_size(sph_field_type t) {
-    return t == FIELD_TYPE_REAL ? sizeof(double)
+    return sph_field_is_real(t) ? sizeof(double)
                                 : (t == FIELD_TYPE_INT32 ? sizeof(int32_t) : sizeof(uint8_t));
 }
 
@@ -66,10 +66,12 @@ static sph_status write_fields(const sph_h5_writer *w, sph_backend *be, sph_erro
         scratch = buf;
         st = be->ops->download(be, (sph_field)f, scratch, err);
         if (st) break;
-        /* reals are stored in the run's precision: the restore is exact */
+        /* reals are stored in the field's precision: the restore is exact */
         const hid_t filetype =
-            info->type == FIELD_TYPE_REAL
-                ? (be->features.double_precision ? H5T_IEEE_F64LE : H5T_IEEE_F32LE)
+            sph_field_is_real(info->type)
+                ? (sph_field_element_size(info->type, &be->features) == sizeof(double)
+                       ? H5T_IEEE_F64LE
+                       : H5T_IEEE_F32LE)
                 : (info->type == FIELD_TYPE_INT32 ? H5T_STD_I32LE : H5T_STD_U8LE);
         const hsize_t dims[1] = {(hsize_t)count};
         st = sph_h5_write(w, g, info->name, field_memtype(info->type), filetype, 1, dims, scratch,
@@ -112,20 +114,16 @@ sph_status sph_checkpoint_write(const char *run_dir, sph_backend *be,
     sph_status st = sph_h5_create(&w, path, err);
     if (st) return st;
     const hid_t root = w.file;
-    const int64_t ints[] = {CHECKPOINT_FORMAT,
-                            be->n,
-                            h->output_index,
-                            h->acoustic_steps,
-                            h->advection_steps,
-                            h->nsnapshots,
-                            be->features.double_precision};
-    const char *names[] = {"format",          "particles",      "output_index",    "acoustic_steps",
-                           "advection_steps", "snapshot_count", "double_precision"};
+    const int64_t ints[] = {CHECKPOINT_FORMAT,  be->n,        h->output_index, h->acoustic_steps,
+                            h->advection_steps, h->nsnapshots};
+    const char *names[] = {"format",         "particles",       "output_index",
+                           "acoustic_steps", "advection_steps", "snapshot_count"};
     for (size_t k = 0; !st && k < sizeof ints / sizeof ints[0]; ++k)
         st = sph_h5_attr_int64s(&w, root, names[k], &ints[k], 1, err);
     if (!st) st = sph_h5_attr_double(&w, root, "time", h->time, err);
     if (!st) st = sph_h5_attr_double(&w, root, "max_speed2", h->max_speed2, err);
     if (!st) st = sph_h5_attr_string(&w, root, "backend", be->kind_name, err);
+    if (!st) st = sph_h5_attr_string(&w, root, "precision", sph_precision_name(&be->features), err);
     if (!st) st = sph_h5_attr_string(&w, root, "sphsolid_version", SPHSOLID_VERSION, err);
     if (!st) {
         /* the scene as a dataset: attributes are limited to 64 KiB */
@@ -200,8 +198,8 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
     hid_t f;
     sph_status st = sph_h5_open_read(path, &f, err);
     if (st) return st;
-    long format = 0, n = 0, nsnap = 0, dp = 0;
-    char *backend = NULL;
+    long format = 0, n = 0, nsnap = 0;
+    char *backend = NULL, *precision = NULL;
     st = read_int(f, path, "format", &format, err);
     if (!st && format != CHECKPOINT_FORMAT)
         st = sph_fail(err, SPH_ERR_INPUT, "%s: checkpoint format %ld, this sphsolid reads %d", path,
@@ -214,18 +212,19 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
     if (!st) st = read_int(f, path, "acoustic_steps", &ck->h.acoustic_steps, err);
     if (!st) st = read_int(f, path, "advection_steps", &ck->h.advection_steps, err);
     if (!st) st = read_int(f, path, "snapshot_count", &nsnap, err);
-    if (!st) st = read_int(f, path, "double_precision", &dp, err);
     if (!st) st = sph_h5_read_attr_double(f, path, "time", &ck->h.time, err);
     if (!st) st = sph_h5_read_attr_double(f, path, "max_speed2", &ck->h.max_speed2, err);
     if (!st) st = sph_h5_read_attr_string(f, path, "backend", &backend, err);
+    if (!st) st = sph_h5_read_attr_string(f, path, "precision", &precision, err);
     if (!st) {
         snprintf(ck->backend, sizeof ck->backend, "%s", backend);
+        snprintf(ck->precision, sizeof ck->precision, "%s", precision);
         ck->n = (int)n;
-        ck->double_precision = dp != 0;
         st =
             sph_h5_read(f, path, "carried", H5T_NATIVE_DOUBLE, ck->h.carried, SPH_CARRIED_LEN, err);
     }
     free(backend);
+    free(precision);
     if (!st && nsnap > 0) {
         restore_snapshots(run_dir, nsnap);
         ck->h.nsnapshots = (int)nsnap;

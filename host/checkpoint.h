@@ -34,7 +34,7 @@ typedef struct {
 typedef struct {
     sph_checkpoint_header h;
     int n;
-    bool double_precision;
+    char precision[8]; /* "double", "single" or "mixed" */
     char backend[32];
     void *field[FIELD_COUNT]; /* host copies (reals as double) */
 } sph_checkpoint;

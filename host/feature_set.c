@@ -8,10 +8,11 @@
 #include <string.h>
 
 void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,
-                             bool double_precision, sph_features *out) {
+                             sph_precision precision, sph_features *out) {
     memset(out, 0, sizeof *out);
     out->dim = scene->dim;
-    out->double_precision = double_precision;
+    out->double_precision = precision == SPH_PRECISION_DOUBLE;
+    out->mixed_precision = precision == SPH_PRECISION_MIXED;
     out->formulation = scene->formulation;
     out->rotation = scene->rotation;
     out->kernel = scene->kernel;
@@ -26,15 +27,33 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
         if (scene->materials[scene->bodies[b].material].plastic) out->plastic = true;
 }
 
+const char *sph_precision_name(const sph_features *f) {
+    return f->double_precision ? "double" : (f->mixed_precision ? "mixed" : "single");
+}
+
+bool sph_precision_parse(const char *name, sph_precision *out) {
+    static const char *const names[] = {"double", "single", "mixed"};
+    for (int k = 0; k < 3; ++k)
+        if (strcmp(name, names[k]) == 0) {
+            *out = (sph_precision)k;
+            return true;
+        }
+    return false;
+}
+
+bool sph_history_double(const sph_features *f) {
+    return f->double_precision || f->mixed_precision;
+}
+
 void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
                                 bool nbr_row_major, char *buf, size_t len) {
     snprintf(buf, len,
-             "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
+             "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_MIXED=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
-             f->dim, f->double_precision ? 1 : 0, (int)f->kernel, (int)f->formulation,
-             f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0, f->nbodies,
-             f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
+             f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
+             (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
+             f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
 }
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,

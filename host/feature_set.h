@@ -16,9 +16,15 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+/* Precision modes (issue 5): double; single; mixed = single arithmetic with
+ * the history fields (positions, density, shear stress, accumulated shear
+ * acceleration; device/sph_prelude.h, hreal) stored and updated in double. */
+typedef enum { SPH_PRECISION_DOUBLE, SPH_PRECISION_SINGLE, SPH_PRECISION_MIXED } sph_precision;
+
 typedef struct {
     int dim;
-    bool double_precision;
+    bool double_precision; /* the arithmetic and the non-history fields */
+    bool mixed_precision;  /* single arithmetic, history fields in double */
     sph_formulation formulation;
     sph_rotation rotation;
     sph_kernel kernel;
@@ -33,7 +39,14 @@ typedef struct {
 } sph_features;
 
 void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,
-                             bool double_precision, sph_features *out);
+                             sph_precision precision, sph_features *out);
+
+/* "double", "single" or "mixed" */
+const char *sph_precision_name(const sph_features *f);
+/* Parse a precision name; false if it is none of them. */
+bool sph_precision_parse(const char *name, sph_precision *out);
+/* The history fields are double (double and mixed precision). */
+bool sph_history_double(const sph_features *f);
 
 /* OpenCL build options of the feature set plus the device-dependent layout
  * choices (work-group sizes, neighbour-array layout). */

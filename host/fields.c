@@ -11,17 +11,17 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
     const bool averaged = f->rotation == SPH_ROTATION_AVERAGED;
     const int form = (int)f->formulation;
     const sph_field_info table[FIELD_COUNT] = {
-        [FIELD_POS] = {"pos", FIELD_TYPE_REAL, d, true},
+        [FIELD_POS] = {"pos", FIELD_TYPE_HREAL, d, true},
         [FIELD_VEL] = {"vel", FIELD_TYPE_REAL, d, true},
-        [FIELD_RHO] = {"rho", FIELD_TYPE_REAL, 1, true},
+        [FIELD_RHO] = {"rho", FIELD_TYPE_HREAL, 1, true},
         [FIELD_DRHO] = {"drho", FIELD_TYPE_REAL, 1, true},
         [FIELD_MASS] = {"mass", FIELD_TYPE_REAL, 1, true},
         [FIELD_VOL] = {"vol", FIELD_TYPE_REAL, 1, true},
         [FIELD_ACC_DISS] = {"acc_diss", FIELD_TYPE_REAL, d, true},
-        [FIELD_ACC_SHEAR] = {"acc_shear", FIELD_TYPE_REAL, d, true},
+        [FIELD_ACC_SHEAR] = {"acc_shear", FIELD_TYPE_HREAL, d, true},
         [FIELD_DACC_SHEAR] = {"dacc_shear", FIELD_TYPE_REAL, d, averaged},
         [FIELD_SPIN] = {"spin", FIELD_TYPE_REAL, nspin, averaged},
-        [FIELD_TAU] = {"tau", FIELD_TYPE_REAL, nsym, true},
+        [FIELD_TAU] = {"tau", FIELD_TYPE_HREAL, nsym, true},
         [FIELD_BMAT] = {"bmat", FIELD_TYPE_REAL, nsym, true},
         [FIELD_ID] = {"id", FIELD_TYPE_INT32, 1, true},
         [FIELD_BODY] = {"body", FIELD_TYPE_U8, 1, f->nbodies > 1},
@@ -46,14 +46,20 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
     for (int k = 0; k < FIELD_COUNT; ++k) out[k] = table[k];
 }
 
-size_t sph_field_element_size(sph_field_type type, bool double_precision) {
+size_t sph_field_element_size(sph_field_type type, const sph_features *f) {
     switch (type) {
     case FIELD_TYPE_REAL:
-        return double_precision ? sizeof(double) : sizeof(float);
+        return f->double_precision ? sizeof(double) : sizeof(float);
+    case FIELD_TYPE_HREAL:
+        return sph_history_double(f) ? sizeof(double) : sizeof(float);
     case FIELD_TYPE_INT32:
         return sizeof(int32_t);
     case FIELD_TYPE_U8:
         return sizeof(uint8_t);
     }
     return 0;
+}
+
+bool sph_field_is_real(sph_field_type type) {
+    return type == FIELD_TYPE_REAL || type == FIELD_TYPE_HREAL;
 }

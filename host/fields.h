@@ -43,7 +43,9 @@ typedef enum {
     FIELD_COUNT
 } sph_field;
 
-typedef enum { FIELD_TYPE_REAL, FIELD_TYPE_INT32, FIELD_TYPE_U8 } sph_field_type;
+/* REAL: in the run's arithmetic precision; HREAL: a history field (device/
+ * sph_prelude.h), double in double and mixed precision, float in single. */
+typedef enum { FIELD_TYPE_REAL, FIELD_TYPE_HREAL, FIELD_TYPE_INT32, FIELD_TYPE_U8 } sph_field_type;
 
 typedef struct {
     const char *name;
@@ -55,7 +57,10 @@ typedef struct {
 /* Fill the registry for a feature set. */
 void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]);
 
-/* Bytes of one element of a field of this type at the given precision. */
-size_t sph_field_element_size(sph_field_type type, bool double_precision);
+/* Bytes of one element of a field of this type in a run of this feature set. */
+size_t sph_field_element_size(sph_field_type type, const sph_features *f);
+
+/* A floating-point field (REAL or HREAL): transferred to the host as double. */
+bool sph_field_is_real(sph_field_type type);
 
 #endif

@@ -1,7 +1,7 @@
 /* main.c — the sphsolid command line.
  *
  *   sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]
- *                      [--precision double|single] [--out DIR] [--quiet] [--profile]
+ *                      [--precision double|single|mixed] [--out DIR] [--quiet] [--profile]
  *                      [--checkpoint-every T] [--checkpoint-wall S] [--progress-interval S]
  *                      [--plot]
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
@@ -30,7 +30,8 @@ static void usage(FILE *f) {
     fprintf(
         f,
         "usage: sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]\n"
-        "                          [--precision double|single] [--out DIR] [--quiet] [--profile]\n"
+        "                          [--precision double|single|mixed] [--out DIR] [--quiet] "
+        "[--profile]\n"
         "                          [--checkpoint-every T] [--checkpoint-wall S]\n"
         "                          [--progress-interval S] [--plot]\n"
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
@@ -87,7 +88,7 @@ static int cmd_run(int argc, char **argv) {
     sph_run_options opt = {0};
     opt.backend.kind = SPH_BACKEND_AUTO;
     opt.backend.device_index = -1;
-    opt.double_precision = true;
+    opt.precision = SPH_PRECISION_DOUBLE;
     const char **overrides = calloc((size_t)argc, sizeof(char *));
     if (!overrides) return SPH_ERR_RUNTIME;
     int noverrides = 0;
@@ -129,13 +130,9 @@ static int cmd_run(int argc, char **argv) {
             opt.backend.device_index = (int)d;
             if (opt.backend.kind == SPH_BACKEND_AUTO) opt.backend.kind = SPH_BACKEND_OPENCL;
         } else if (strcmp(a, "--precision") == 0) {
-            if (strcmp(value, "double") == 0)
-                opt.double_precision = true;
-            else if (strcmp(value, "single") == 0)
-                opt.double_precision = false;
-            else {
+            if (!sph_precision_parse(value, &opt.precision)) {
                 free(overrides);
-                return input_error("--precision %s: expected double or single", value);
+                return input_error("--precision %s: expected double, single or mixed", value);
             }
         } else if (strcmp(a, "--out") == 0) {
             out_dir = value;

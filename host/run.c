@@ -65,7 +65,7 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
     sim->scene_loaded = true;
     st = sph_particles_generate(&sim->scene, &sim->particles, err);
     if (st) return st;
-    sph_features_from_scene(&sim->scene, &sim->particles, opt->double_precision, &sim->features);
+    sph_features_from_scene(&sim->scene, &sim->particles, opt->precision, &sim->features);
     st = sph_params_fill(&sim->scene, &sim->particles, &sim->features, sim->prm, err);
     if (!st) st = sph_observers_init(&sim->scene, &sim->particles, sim->prm, &sim->observers, err);
     if (!st) st = sph_timeseries_init(&sim->series, sim->scene.dim, sim->scene.nobservers, err);
@@ -193,9 +193,8 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(root, "backend", json_object_new_string(be->kind_name));
     json_object_object_add(root, "device", json_object_new_string(be->device_name));
     json_object_object_add(root, "backend_choice", json_object_new_string(be->choice_reason));
-    json_object_object_add(
-        root, "precision",
-        json_object_new_string(sim->features.double_precision ? "double" : "single"));
+    json_object_object_add(root, "precision",
+                           json_object_new_string(sph_precision_name(&sim->features)));
     json_object_object_add(root, "build_options", json_object_new_string(be->build_options));
     json_object *features = json_object_new_object();
     const sph_features *f = &sim->features;
@@ -211,8 +210,7 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(features, "bodies", json_object_new_int(f->nbodies));
     json_object_object_add(features, "contact", json_object_new_boolean(f->contact));
     json_object_object_add(features, "walls", json_object_new_int(f->walls));
-    json_object_object_add(features, "precision",
-                           json_object_new_string(f->double_precision ? "double" : "single"));
+    json_object_object_add(features, "precision", json_object_new_string(sph_precision_name(f)));
     json_object_object_add(features, "stepping",
                            json_object_new_string(sph_stepping_name(f->stepping)));
     json_object_object_add(features, "snapshots",
@@ -352,13 +350,13 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
             fprintf(stderr, "sphsolid: restarting from t = %.9g s (%s)\n", ck.h.time,
                     opt->restart_dir);
             const bool same = strcmp(ck.backend, sim->backend->kind_name) == 0 &&
-                              ck.double_precision == sim->features.double_precision;
+                              strcmp(ck.precision, sph_precision_name(&sim->features)) == 0;
             if (!same)
                 fprintf(stderr,
                         "sphsolid: note: the checkpoint was written by the %s backend in %s "
                         "precision; continuing on another backend or precision is not bit-for-bit "
                         "the uninterrupted run\n",
-                        ck.backend, ck.double_precision ? "double" : "single");
+                        ck.backend, ck.precision);
         }
     }
     if (opt->out_dir) {
@@ -377,7 +375,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
             .backend = sim->backend->kind_name,
             .device = sim->backend->device_name,
             .build_options = sim->backend->build_options,
-            .precision = sim->features.double_precision ? "double" : "single",
+            .precision = sph_precision_name(&sim->features),
             .parameters_json = parameters ? parameters : "{}",
         };
         const int keep = resumed ? ck.h.nsnapshots : 0;

@@ -23,7 +23,7 @@ typedef struct {
     const char *const *overrides; /* "key=value" */
     int noverrides;
     sph_backend_request backend;
-    bool double_precision;
+    sph_precision precision;
     const char *out_dir;      /* NULL: no files */
     const char *restart_dir;  /* continue the run whose checkpoint is in this directory */
     double checkpoint_every;  /* simulated seconds between checkpoints; 0: none */

@@ -119,6 +119,12 @@ static void by_id(const sph_snapshots *s, const double *in, int in_comps, int co
     }
 }
 
+/* Positions (points, displacement) are stored as the run holds them: float
+ * in single precision, double in double and mixed (a history field). */
+static hid_t position_type(const sph_snapshots *s) {
+    return strcmp(s->ctx.precision, "single") == 0 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
+}
+
 static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *w, hid_t pd,
                                    sph_error *err) {
     const sph_scene *sc = s->ctx.scene;
@@ -136,14 +142,16 @@ static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *
         by_id(s, s->pos, dim, 3, rows);
         const sph_particles *p0 = s->ctx.initial; /* initial set: index = id */
         /* x(0) as the run stored it: a single-precision run starts from
-         * positions rounded to float, so its displacement at t = 0 is 0 */
+         * positions rounded to float, so its displacement at t = 0 is 0
+         * (mixed precision keeps positions in double) */
+        const bool float_positions = position_type(s) == H5T_IEEE_F32LE;
         for (int i = 0; i < n; ++i)
             for (int a = 0; a < dim; ++a) {
                 const double x0 = p0->pos[(size_t)a * (size_t)n + (size_t)i];
-                rows[(size_t)i * 3 + (size_t)a] -= s->double_precision ? x0 : (double)(float)x0;
+                rows[(size_t)i * 3 + (size_t)a] -= float_positions ? (double)(float)x0 : x0;
             }
-        st = sph_h5_write(w, pd, "displacement", H5T_NATIVE_DOUBLE, real_type, 2, vec_dims, rows,
-                          err);
+        st = sph_h5_write(w, pd, "displacement", H5T_NATIVE_DOUBLE, position_type(s), 2, vec_dims,
+                          rows, err);
     }
     if (!st && sc->output_field[SPH_OUT_DENSITY]) {
         by_id(s, s->rho, 1, 1, rows);
@@ -261,9 +269,8 @@ static sph_status write_file(sph_snapshots *s, sph_error *err) {
     if (!st) {
         by_id(s, s->pos, s->dim, 3, rows);
         const hsize_t dims[2] = {(hsize_t)n, 3};
-        st =
-            sph_h5_write(&w, vtk, "Points", H5T_NATIVE_DOUBLE,
-                         s->double_precision ? H5T_IEEE_F64LE : H5T_IEEE_F32LE, 2, dims, rows, err);
+        st = sph_h5_write(&w, vtk, "Points", H5T_NATIVE_DOUBLE, position_type(s), 2, dims, rows,
+                          err);
     }
     /* one vertex cell per particle */
     int64_t *ids = (int64_t *)rows; /* n + 1 int64 fit in the n*6 doubles */

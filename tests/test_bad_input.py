@@ -377,7 +377,7 @@ ROWS = [
         argv=["run", PLATE, "--device", "x"]),
     Row("bad backend name", 2, ["--backend gpu: expected opencl or cpu"],
         argv=["run", PLATE, "--backend", "gpu"]),
-    Row("bad precision", 2, ["--precision half: expected double or single"],
+    Row("bad precision", 2, ["--precision half: expected double, single or mixed"],
         argv=["run", PLATE, "--precision", "half"]),
     Row("--device with --backend cpu", 2, ["--device selects an OpenCL device"],
         argv=["run", PLATE, "--backend", "cpu", "--device", "0"]),

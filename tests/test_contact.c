@@ -353,8 +353,8 @@ static void rings(test_counts *t, sph_backend_kind kind) {
     const char *overrides[] = {"resolution.dp=0.002", "output.snapshot_interval=0"};
     sph_simulation sim;
     sph_error err = {0};
-    const sph_status st =
-        test_run_case("colliding_rings_2d", overrides, 2, kind, true, 0, &sim, &err);
+    const sph_status st = test_run_case("colliding_rings_2d", overrides, 2, kind,
+                                        SPH_PRECISION_DOUBLE, 0, &sim, &err);
     CHECK(t, st == SPH_OK, "rings run failed: %s", err.msg);
     if (st) {
         sph_simulation_close(&sim);
@@ -471,7 +471,8 @@ static void ball_plate(test_counts *t, sph_backend_kind kind) {
     const char *overrides[] = {"resolution.dp=0.005", "output.snapshot_interval=0"};
     sph_simulation sim;
     sph_error err = {0};
-    const sph_status st = test_run_case("ball_plate_2d", overrides, 2, kind, true, 0, &sim, &err);
+    const sph_status st =
+        test_run_case("ball_plate_2d", overrides, 2, kind, SPH_PRECISION_DOUBLE, 0, &sim, &err);
     CHECK(t, st == SPH_OK, "ball-plate run failed: %s", err.msg);
     if (st) {
         sph_simulation_close(&sim);

@@ -52,8 +52,8 @@ static void plate_stability(test_counts *t, sph_backend_kind kind) {
         const char *overrides[] = {f, rot, "time.end=0.05", "time.output_interval=0.002"};
         sph_simulation sim;
         sph_error err = {0};
-        const sph_status st =
-            test_run_case("oscillating_plate_2d", overrides, 4, kind, true, 0, &sim, &err);
+        const sph_status st = test_run_case("oscillating_plate_2d", overrides, 4, kind,
+                                            SPH_PRECISION_DOUBLE, 0, &sim, &err);
         printf("plate %s on %s: status %d, instability at t = %.4g s (%s %.3g), max zigzag "
                "indicator %.3g\n",
                runs[r].formulation, kind == SPH_BACKEND_CPU ? "cpu" : "opencl", (int)st,
@@ -84,7 +84,7 @@ static void plasticity(test_counts *t, sph_backend_kind kind) {
         sph_simulation sim;
         sph_error err = {0};
         const sph_status st = test_run_case("oscillating_plate_2d", p ? plastic : elastic,
-                                            p ? 3 : 2, kind, true, 0, &sim, &err);
+                                            p ? 3 : 2, kind, SPH_PRECISION_DOUBLE, 0, &sim, &err);
         CHECK(t, st == SPH_OK, "GNOG-A plate (%s): %s", p ? "plastic" : "elastic", err.msg);
         if (st == SPH_OK) {
             ratio[p] = sim.metrics.final_total_energy_ratio;
@@ -118,8 +118,8 @@ static void plasticity(test_counts *t, sph_backend_kind kind) {
                                   "materials.plate.yield_stress=1.0e5"};
     sph_simulation sim;
     sph_error err = {0};
-    const sph_status st =
-        test_run_case("oscillating_plate_2d", enog_plastic, 2, kind, true, 1, &sim, &err);
+    const sph_status st = test_run_case("oscillating_plate_2d", enog_plastic, 2, kind,
+                                        SPH_PRECISION_DOUBLE, 1, &sim, &err);
     CHECK(t, st == SPH_ERR_INPUT && strstr(err.msg, "elastic materials") != NULL,
           "ENOG-A with a plastic material is refused: %s", err.msg);
     sph_simulation_close(&sim);
@@ -135,7 +135,7 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
         sph_simulation sim;
         sph_error err = {0};
         const sph_status st = test_run_case("oscillating_plate_2d", p ? gnog_a_plastic : enog_a,
-                                            p ? 3 : 1, kind, true, 5, &sim, &err);
+                                            p ? 3 : 1, kind, SPH_PRECISION_DOUBLE, 5, &sim, &err);
         CHECK(t, st == SPH_OK, "run: %s", err.msg);
         if (st == SPH_OK) {
             const sph_backend *be = sim.backend;
@@ -174,7 +174,7 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
         sph_error err = {0};
         const sph_status st =
             test_run_case(c ? "colliding_rings_2d" : "oscillating_plate_2d", c ? rings : plate,
-                          c ? 2 : 1, kind, true, 5, &sim, &err);
+                          c ? 2 : 1, kind, SPH_PRECISION_DOUBLE, 5, &sim, &err);
         CHECK(t, st == SPH_OK, "run: %s", err.msg);
         if (st == SPH_OK) {
             const sph_backend *be = sim.backend;

@@ -24,7 +24,8 @@ int main(int argc, char **argv) {
     const sph_backend_kind kind = test_backend_kind(argc, argv);
     sph_simulation sim;
     sph_error err = {0};
-    const sph_status st = test_run_case("oscillating_plate_2d", NULL, 0, kind, true, 0, &sim, &err);
+    const sph_status st =
+        test_run_case("oscillating_plate_2d", NULL, 0, kind, SPH_PRECISION_DOUBLE, 0, &sim, &err);
     CHECK(&t, st == SPH_OK, "plate run failed: %s", err.msg);
     if (st == SPH_OK) {
         const sph_metrics *m = &sim.metrics;

@@ -40,8 +40,8 @@ static void run(test_counts *t, sph_backend_kind kind, const char *formulation,
     const char *overrides[] = {f, r, g, "monitor.action=report"};
     sph_simulation sim;
     sph_error err = {0};
-    const sph_status st =
-        test_run_case("spinning_plate_2d", overrides, trip ? 4 : 3, kind, true, 0, &sim, &err);
+    const sph_status st = test_run_case("spinning_plate_2d", overrides, trip ? 4 : 3, kind,
+                                        SPH_PRECISION_DOUBLE, 0, &sim, &err);
     if (trip)
         snprintf(trip, 48, "%s",
                  st == SPH_OK && !isnan(sim.stats.instability_time) ? sim.stats.instability_quantity

@@ -156,8 +156,9 @@ static inline sph_status test_backend(sph_backend_kind kind, const sph_features 
 
 /* Run a shipped case with overrides on a backend; returns the status. */
 static inline sph_status test_run_case(const char *case_name, const char *const *overrides,
-                                       int noverrides, sph_backend_kind kind, bool double_precision,
-                                       long max_steps, sph_simulation *sim, sph_error *err) {
+                                       int noverrides, sph_backend_kind kind,
+                                       sph_precision precision, long max_steps, sph_simulation *sim,
+                                       sph_error *err) {
     char path[1024];
     test_case_path(case_name, path, sizeof path);
     const sph_run_options opt = {
@@ -165,7 +166,7 @@ static inline sph_status test_run_case(const char *case_name, const char *const 
         .overrides = overrides,
         .noverrides = noverrides,
         .backend = {.kind = kind, .device_index = -1, .quiet = true},
-        .double_precision = double_precision,
+        .precision = precision,
         .out_dir = NULL,
         .quiet = true,
         .max_acoustic_steps = max_steps,

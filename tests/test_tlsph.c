@@ -323,8 +323,8 @@ static plate_result run_plate(test_counts *t, sph_backend_kind kind, const char 
     sph_simulation sim;
     sph_error err = {0};
     plate_result r = {0};
-    const sph_status st =
-        test_run_case("oscillating_plate_2d", overrides, 5, kind, true, 0, &sim, &err);
+    const sph_status st = test_run_case("oscillating_plate_2d", overrides, 5, kind,
+                                        SPH_PRECISION_DOUBLE, 0, &sim, &err);
     CHECK(t, st == SPH_OK, "plate (%s): %s", kernel, err.msg);
     if (st == SPH_OK) {
         const sph_metrics *m = &sim.metrics;
@@ -507,7 +507,8 @@ static sph_status small_plate(sph_backend_kind kind, const char *yield, const ch
                                "bodies.plate.initial_velocity.amplitude_c0=0.01",
                                end_set,
                                yield_set};
-    return test_run_case("oscillating_plate_2d", overrides, yield ? 7 : 6, kind, true, 0, sim, err);
+    return test_run_case("oscillating_plate_2d", overrides, yield ? 7 : 6, kind,
+                         SPH_PRECISION_DOUBLE, 0, sim, err);
 }
 
 /* E(t)/E(0): the largest over the run, and the last */

@@ -6,8 +6,10 @@ memory bandwidth each phase achieves against the device's measured copy bandwidt
 Cases (fixed):
   plate     2D oscillating plate (cases/oscillating_plate_2d) at H/dp = 10, 20, 30 to t = 1 s
   spinning  2D spinning plate (cases/spinning_plate_2d, dp = 0.05) to t = 0.5 s
-  3D plate  the (2,2)-mode plate at H/dp = 3, 5, 9 to t = 0.1 s (000 Table 4): listed as
-            "needs the 3D plate case" (no such case yet)
+  3D plate  the simply supported plate (cases/oscillating_plate_3d), mode (2,2), at
+            H/dp = 3, 5, 9 to t = 0.1 s (000 Table 4: 122.6, 981.3, 10629.4 s on 32 cores);
+            --plate3d-ratios picks which (default 3: H/dp = 5 takes about an hour on two
+            CPU cores, H/dp = 9 with 1.18 M particles is for a GPU)
 
 For every case, backend (--backends cpu opencl) and precision (--precisions):
   * a timing run (no --profile): wall time to the end time, particle-substeps per second;
@@ -41,11 +43,22 @@ from bench_core import (BIN, PAPER_WALL, PLATE, REFERENCE_CODE_H10_SECONDS, ROOT
 
 SPINNING = os.path.join(ROOT, "cases", "spinning_plate_2d", "scene.cfg")
 DEVICE_DIR = os.path.join(ROOT, "device")
+PLATE_3D = os.path.join(ROOT, "cases", "oscillating_plate_3d", "scene.cfg")
+PLATE_3D_THICKNESS = 0.01  # m (cases/oscillating_plate_3d): dp = thickness / (H/dp)
 # 3D plate, mode (m,n) = (2,2), to t = 0.1 s: 000 Table 4 (32 cores, dual-criteria stepping)
 PAPER_3D_WALL = {3: 122.6, 5: 981.3, 9: 10629.4}
-PENDING_3D = [{"case": f"3D plate (2,2) H/dp={r}", "end_time": 0.1, "paper_32_core_s": t,
-               "status": "needs the 3D plate case (no cases/oscillating_plate_3d yet)"}
-              for r, t in PAPER_3D_WALL.items()]
+# issue 5's GPU targets for H/dp = 9 (1.18 M particles) to t = 0.1 s
+GPU_3D_TARGET_S = {"single": 100.0, "mixed": 100.0, "double": 200.0}
+
+
+def plate3d_case(ratio):
+    return f"3D plate (2,2) H/dp={ratio:g}"
+
+
+def pending_3d(ratios_run):
+    return [{"case": plate3d_case(r), "end_time": 0.1, "paper_32_core_s": t,
+             "status": "not run (--plate3d-ratios)"}
+            for r, t in PAPER_3D_WALL.items() if r not in ratios_run]
 
 # ---- profile phases -> groups --------------------------------------------------------------
 GROUP_REBUILD, GROUP_SUBSTEP, GROUP_REDUCE, GROUP_OTHER = (
@@ -120,7 +133,7 @@ def kernel_signatures(device_dir=DEVICE_DIR):
             old = args.get(name)
             args[name] = (const and (old is None or old[0]), typ)
     if "name" in sigs:  # DEFINE_PERMUTE(permute_real, real) ...
-        for p in ("permute_real", "permute_int", "permute_u8"):
+        for p in ("permute_real", "permute_hreal", "permute_int", "permute_u8"):
             sigs.setdefault(p, sigs["name"])
     return sigs
 
@@ -139,14 +152,17 @@ def mean_neighbour_count(run_dir, cutoff):
     n = len(x)
     rows = np.arange(n) if n <= 20000 else np.random.default_rng(1).choice(n, 4000, False)
     total = 0
-    for s in range(0, len(rows), 1024):
-        idx = rows[s:s + 1024]
+    chunk = max(16, int(1e7 // n))  # rows per block: about 240 MB of temporaries
+    for s in range(0, len(rows), chunk):
+        idx = rows[s:s + chunk]
         d2 = ((x[idx, None, :] - x[None, :, :]) ** 2).sum(axis=2)
         total += int(((d2 < cutoff * cutoff) & (d2 > 0)).sum())
     return total / len(rows)
 
 
 INT_FIELDS, U8_FIELDS = ("id", "contact_count"), ("fixed", "body")  # host/fields.c
+# history fields (host/fields.c, FIELD_TYPE_HREAL): double in mixed precision
+HREAL_FIELDS = ("pos", "rho", "tau", "acc_shear")
 
 
 def buffer_sizes(summary):
@@ -214,7 +230,12 @@ def bandwidth_model(summary, neighbours, sigs):
         # one launch per field per rebuild: keys + field read (gathered) + field written
         return sum(keys_bytes + 2 * fields[f] * n for f in fields if field_kind(f) in kinds)
 
+    mixed = summary["precision"] == "mixed"
+
     def field_kind(f):
+        # mixed precision permutes the double history fields with permute_hreal
+        if mixed and f in HREAL_FIELDS:
+            return "hreal"
         return "int" if f in INT_FIELDS else "u8" if f in U8_FIELDS else "real"
 
     model = {}
@@ -228,8 +249,9 @@ def bandwidth_model(summary, neighbours, sigs):
                             f"keys + {kind} fields gathered and written")
         elif phase == "cell sort and permutation":  # native: keys, counting sort, permute
             sort = 3 * keys_bytes + 2 * (cell_bytes["cell_start"] + cell_bytes["cell_end"])
-            model[phase] = (kernel_bytes("cell_keys") + sort + permute_bytes(
-                {"real", "int", "u8"}), "cell keys, counting sort, permutation of every field")
+            model[phase] = (kernel_bytes("cell_keys") + sort
+                            + permute_bytes({"real", "hreal", "int", "u8"}),
+                            "cell keys, counting sort, permutation of every field")
         elif phase.startswith("bitonic"):
             model[phase] = (2 * keys_bytes, "keys read and written")
         elif phase == "acoustic substep":  # native: the substep kernels fused in one phase
@@ -346,6 +368,11 @@ def analyse(timing, prof, sigs, peak):
     }
 
 
+def cpu_opencl(device):
+    """An OpenCL CPU device (pocl), from the device string of summary.json."""
+    return "Portable Computing Language" in device or "pthread" in device
+
+
 def targets(rows, plate_end):
     out = []
 
@@ -370,6 +397,19 @@ def targets(rows, plate_end):
     else:
         out.append({"target": "plate H/dp = 30 to 1 s vs 000 Table 2 (130.1 s, 32 cores)",
                     "met": None, "note": "not run (needs H/dp = 30, native, double, t = 1 s)"})
+    for ratio, paper in PAPER_3D_WALL.items():
+        for r in rows:
+            if r["case"] != plate3d_case(ratio) or r["end_time"] != 0.1:
+                continue
+            t = {"target": f"{r['case']} to 0.1 s, {r['backend']} {r['precision']}: against "
+                           f"000 Table 4's {paper} s on 32 cores",
+                 "measured_s": r["wall_time_s"], "ratio_to_paper": r["wall_time_s"] / paper,
+                 "met": None}
+            if ratio == 9 and r["backend"] == "opencl" and not cpu_opencl(r["device"]):
+                limit = GPU_3D_TARGET_S[r["precision"]]
+                t["target"] += f"; issue 5: <= {limit:g} s on a GPU"
+                t["met"] = r["wall_time_s"] <= limit
+            out.append(t)
     for r in rows:
         if r["backend"] != "opencl":
             continue
@@ -377,7 +417,7 @@ def targets(rows, plate_end):
         if not native:
             continue
         ratio = r["wall_time_s"] / native["wall_time_s"]
-        cpu_device = "Portable Computing Language" in r["device"] or "pthread" in r["device"]
+        cpu_device = cpu_opencl(r["device"])
         out.append({"target": f"{r['case']}, {r['precision']}: OpenCL "
                               f"{'(pocl) within 1.5x of' if cpu_device else 'against'} native",
                     "opencl_s": r["wall_time_s"], "native_s": native["wall_time_s"],
@@ -464,10 +504,15 @@ def main():
     ap.add_argument("--json", required=True, help="output JSON file (Markdown next to it)")
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"], choices=["cpu", "opencl"])
     ap.add_argument("--device", type=int, default=None, help="OpenCL device (sphsolid devices)")
-    ap.add_argument("--precisions", nargs="+", default=["double"], choices=["double", "single"])
+    ap.add_argument("--precisions", nargs="+", default=["double"],
+                    choices=["double", "single", "mixed"])
     ap.add_argument("--plate-ratios", type=float, nargs="*", default=[10, 20, 30],
                     help="plate H/dp values (default 10 20 30; none: skip the plate)")
     ap.add_argument("--plate-end", type=float, default=1.0, help="plate end time (default 1 s)")
+    ap.add_argument("--plate3d-ratios", type=float, nargs="*", default=[3],
+                    help="3D plate H/dp values, to t = 0.1 s (default 3; a GPU: 3 5 9)")
+    ap.add_argument("--plate3d-end", type=float, default=0.1,
+                    help="3D plate end time (default 0.1 s, 000 Table 4)")
     ap.add_argument("--spinning-end", type=float, default=0.5,
                     help="spinning plate end time (default 0.5 s; 0: skip)")
     ap.add_argument("--single-run", action="store_true",
@@ -494,6 +539,10 @@ def main():
     if args.spinning_end > 0:
         cases.append(("spinning plate dp=0.05", SPINNING, [f"time.end={args.spinning_end}"],
                       args.spinning_end))
+    for r in args.plate3d_ratios:
+        cases.append((plate3d_case(r), PLATE_3D, [f"resolution.dp={PLATE_3D_THICKNESS / r!r}",
+                                                  f"time.end={args.plate3d_end}"],
+                      args.plate3d_end))
     rows = []
     tmp = args.keep or tempfile.mkdtemp(prefix="sphsolid-bench-")
     try:
@@ -531,7 +580,7 @@ def main():
                                  "per slot), read-only arguments once, written-only once, "
                                  "read-and-written twice; neighbour gathers assumed to hit "
                                  "cache (docs/benchmarks.md)",
-              "cases": rows, "pending": PENDING_3D,
+              "cases": rows, "pending": pending_3d(args.plate3d_ratios),
               "targets": targets(rows, args.plate_end)}
     result["markdown"] = markdown(result)
     print("\n" + result["markdown"])

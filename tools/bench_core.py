@@ -9,6 +9,10 @@
            (v_f, nu) rows of 004 Table 6: first-period error against thin-plate theory
            (target: within 1.5 percentage points of each published error) and cost (target:
            equal within 5 %).
+  precision  the precision modes (double, single, mixed) against double: the plate's first
+           period at H/dp = 30 (target: single and mixed within 0.5 % of double) and the
+           spinning plate's maximum angular-momentum error (dp = 0.05, t = 0.5 s), with
+           the wall time of each.
   timing   wall time and particle-substeps per second of the plate to t = 1 s at
            H/dp = 10, 20, 30 on the native backend and on OpenCL (pocl without a GPU),
            dual- against single-criterion stepping (000 Table 2), and the speed-up
@@ -31,6 +35,7 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get("SPHSOLID_BIN", os.path.join(ROOT, "build", "sphsolid"))
 PLATE = os.path.join(ROOT, "cases", "oscillating_plate_2d", "scene.cfg")
+SPINNING = os.path.join(ROOT, "cases", "spinning_plate_2d", "scene.cfg")
 
 # 003 Table 1 (ENOG-A), 000 / 003 Table 1 (ENOG), H/dp = 30
 PAPER_PERIODS = {
@@ -51,8 +56,8 @@ PAPER_WALL = {10: {"dual": 25.8, "single": 43.0}, 20: {"dual": 66.3, "single": 1
 REFERENCE_CODE_H10_SECONDS = 18.9  # SPHinXsys, GNOG-A, H/dp = 10, t = 1 s, 2 cores
 
 
-def run(args, out):
-    cmd = [BIN, "run", PLATE, "--quiet", "--out", out] + args
+def run(args, out, scene=PLATE):
+    cmd = [BIN, "run", scene, "--quiet", "--out", out] + args
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         sys.exit(f"bench: {' '.join(cmd)} failed ({p.returncode}): {p.stderr}")
@@ -71,6 +76,8 @@ def environment():
                 break
         env["commit"] = subprocess.run(["git", "rev-parse", "--short=12", "HEAD"], cwd=ROOT,
                                        capture_output=True, text=True).stdout.strip()
+        env["dirty"] = bool(subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
+                                           cwd=ROOT, capture_output=True, text=True).stdout.strip())
     except OSError:
         pass
     return env
@@ -213,9 +220,54 @@ def timing(args, tmp):
     return result
 
 
+def precision(args, tmp):
+    rows = []
+    for backend in args.backends:
+        for prec in args.precisions:
+            base = ["--backend", backend, "--precision", prec, "--set", "monitor.action=report",
+                    "--set", "output.snapshot_interval=0"]
+            plate = run(base + ["--set", f"resolution.ratio={args.ratio}",
+                                "--set", f"time.end={args.end}"],
+                        os.path.join(tmp, f"pr-plate-{backend}-{prec}"))
+            spin = run(base, os.path.join(tmp, f"pr-spin-{backend}-{prec}"), SPINNING)
+            row = {"backend": backend, "precision": prec, "device": plate["device"],
+                   "first_period": plate["metrics"]["first_period"],
+                   "plate_wall_time_s": plate["wall_time_s"],
+                   "plate_particles": plate["particle_count"],
+                   "angular_momentum_error": spin["metrics"]["max_angular_momentum_error"],
+                   "spinning_wall_time_s": spin["wall_time_s"]}
+            rows.append(row)
+            print(f"{backend:6s} {prec:6s} T={row['first_period']:.7f} "
+                  f"({row['plate_wall_time_s']:.1f} s), spinning plate "
+                  f"{100 * row['angular_momentum_error']:.4f} % "
+                  f"({row['spinning_wall_time_s']:.1f} s)", flush=True)
+    table = [f"| backend | precision | first period, H/dp = {args.ratio:g} (s) | against double | "
+             "wall time (s) | spinning plate: max angular-momentum error | against double | "
+             "wall time (s) |", "|---|---|---|---|---|---|---|---|"]
+    worst = 0.0
+    for r in rows:
+        ref = [d for d in rows if d["backend"] == r["backend"] and d["precision"] == "double"]
+        dt = dl = None
+        if ref:
+            dt = r["first_period"] / ref[0]["first_period"] - 1
+            dl = r["angular_momentum_error"] - ref[0]["angular_momentum_error"]
+            worst = max(worst, abs(dt))
+        table.append(f"| {r['backend']} | {r['precision']} | {r['first_period']:.7f} | "
+                     + (f"{100 * dt:+.5f} %" if dt is not None else "-") + " | "
+                     f"{r['plate_wall_time_s']:.1f} | {100 * r['angular_momentum_error']:.4f} % | "
+                     + (f"{100 * dl:+.4f} points" if dl is not None else "-") + " | "
+                     f"{r['spinning_wall_time_s']:.1f} |")
+    table.append(f"\nworst first-period difference from double {100 * worst:.5f} % "
+                 "(target: within 0.5 %); plate v_f = 0.05 to t = "
+                 f"{args.end:g} s, spinning plate dp = 0.05 to t = 0.5 s, SPH-ENOG-A")
+    print("\n" + "\n".join(table))
+    return {"H/dp": args.ratio, "rows": rows, "worst_period_difference": worst,
+            "markdown": "\n".join(table)}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("what", choices=["periods", "tlsph", "timing"])
+    ap.add_argument("what", choices=["periods", "tlsph", "timing", "precision"])
     ap.add_argument("--json", required=True, help="output JSON file")
     ap.add_argument("--backend", default="cpu", help="periods: backend (default cpu)")
     ap.add_argument("--ratio", type=float, default=30, help="periods: H/dp (default 30)")
@@ -225,13 +277,16 @@ def main():
                     choices=list(PAPER_PERIODS), help="periods: formulations (default: all)")
     ap.add_argument("--resolutions", type=int, nargs="+", default=[10, 20, 30])
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"])
+    ap.add_argument("--precisions", nargs="+", default=["double", "single", "mixed"],
+                    choices=["double", "single", "mixed"], help="precision: the modes")
     ap.add_argument("--single-on", nargs="+", default=["cpu"],
                     help="timing: backends that also run single-criterion stepping")
     args = ap.parse_args()
     if args.end is None:
-        args.end = 0.32 if args.what == "periods" else 1.0
+        args.end = 0.32 if args.what in ("periods", "precision") else 1.0
     with tempfile.TemporaryDirectory(prefix="sphsolid-bench-") as tmp:
-        body = {"periods": periods, "tlsph": tlsph, "timing": timing}[args.what](args, tmp)
+        body = {"periods": periods, "tlsph": tlsph, "timing": timing,
+                "precision": precision}[args.what](args, tmp)
     result = {"benchmark": args.what, "environment": environment(), **body}
     os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     with open(args.json + ".partial", "w") as f:

@@ -260,8 +260,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--formulations", nargs="+", default=FORMULATIONS, choices=FORMULATIONS)
-    ap.add_argument("--precisions", nargs="+", default=["double", "single"],
-                    choices=["double", "single"])
+    ap.add_argument("--precisions", nargs="+", default=["double", "single", "mixed"],
+                    choices=["double", "single", "mixed"])
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"], choices=["cpu", "opencl"])
     ap.add_argument("--device", type=int, default=None, help="OpenCL device (sphsolid devices)")
     ap.add_argument("--ratios", type=float, nargs="*", default=[5, 8, 10, 15, 20, 30],
