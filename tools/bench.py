@@ -540,7 +540,7 @@ def main():
         cases.append(("spinning plate dp=0.05", SPINNING, [f"time.end={args.spinning_end}"],
                       args.spinning_end))
     for r in args.plate3d_ratios:
-        cases.append((plate3d_case(r), PLATE_3D, [f"resolution.dp={PLATE_3D_THICKNESS / r!r}",
+        cases.append((plate3d_case(r), PLATE_3D, [f"resolution.dp={PLATE_3D_THICKNESS / r:.15g}",
                                                   f"time.end={args.plate3d_end}"],
                       args.plate3d_end))
     rows = []
