@@ -168,7 +168,7 @@ KERNEL void build_neighbours(
     const vec v_i = vec_load(vel, n, i);
     /* the particle's cell from its sorted key (cell_keys), not recomputed:
      * every particle is searched from the cell it is filed under */
-    const int cell = (int)(keys[i] >> 32);
+    const int cell = key_cell(keys[i]);
     const int cx = cell % gx;
 #if SPH_DIM == 3
     const int cy = (cell / gx) % gy;

@@ -63,16 +63,25 @@
 #include "sph_vec.h"
 #include "sph_smoothing_kernel.h"
 
+/* The two parts of a contact pressure, shared with the rigid walls
+ * (sph_wall.h).  Impedance: c_Z rho0 c0 times the share of the normal
+ * velocity u_n (< 0: approaching) that the interface takes up (1/2 between
+ * two bodies of one material, 1 against a rigid wall). */
+FN real contact_impedance_pressure(CONSTANT real *prm, const real share, const real u_n) {
+    return u_n < R(0) ? -share * prm[PRM_CONTACT_IMPEDANCE] * prm[PRM_RHO0] * prm[PRM_C0] * u_n
+                      : R(0);
+}
+/* Penalty: c_K K (1 - gap / reach)^2 once the gap is below its reach. */
+FN real contact_penalty_pressure(CONSTANT real *prm, const real gap, const real reach) {
+    if (!(gap < reach)) return R(0);
+    const real overlap = R(1) - gap / reach;
+    return prm[PRM_CONTACT_PENALTY] * prm[PRM_K] * overlap * overlap;
+}
+
 /* Contact pressure p_ij of a pair at distance r approaching at -u. */
 FN real contact_pair_pressure(CONSTANT real *prm, const real r, const real u) {
-    real p = R(0);
-    if (u < R(0)) p = -R(0.5) * prm[PRM_CONTACT_IMPEDANCE] * prm[PRM_RHO0] * prm[PRM_C0] * u;
-    const real dp = prm[PRM_DP];
-    if (r < dp) {
-        const real overlap = R(1) - r / dp;
-        p += prm[PRM_CONTACT_PENALTY] * prm[PRM_K] * overlap * overlap;
-    }
-    return p;
+    return contact_impedance_pressure(prm, R(0.5), u) +
+           contact_penalty_pressure(prm, r, prm[PRM_DP]);
 }
 
 #if SPH_HAS_CONTACT

@@ -38,22 +38,12 @@ FN mat j2_radial_return(const mat trial, CONSTANT real *prm, GLOBAL real *alpha,
     return mat_scale(trial, *ratio);
 }
 
-/* One substep of the shear stress: the Jaumann update (003 eq. 8) and, for
- * a plastic material, the return to the yield surface.  `alpha` may be NULL
- * (elastic); *ratio receives the return ratio (1 while elastic). */
-FN mat shear_stress_update(const mat tau, const mat grad_v, CONSTANT real *prm, const real dt,
-                           GLOBAL real *alpha, const int i, real *ratio) {
-    const mat trial = jaumann_update(tau, grad_v, prm[PRM_G], dt);
-    *ratio = R(1);
-    if (RUNTIME_PLASTIC) {
-        if (PRESENT(alpha)) return j2_radial_return(trial, prm, alpha, i, ratio);
-    }
-    return trial;
-}
-
-/* shear_stress_update on the stored stress of particle i: the trial stress
- * is formed in the history precision (tau += dtau, hreal), then scaled by
- * the return ratio when yielding.  Returns the new stress. */
+/* One substep of the stored shear stress of particle i: the Jaumann update
+ * (003 eq. 8) and, for a plastic material, the return to the yield surface.
+ * The trial stress is formed in the history precision (tau += dtau, hreal),
+ * then scaled by the return ratio when yielding.  `alpha` may be NULL
+ * (elastic); *ratio receives the return ratio (1 while elastic).  Returns
+ * the new stress. */
 FN mat shear_stress_advance(GLOBAL hreal *tau, const int n, const int i, const mat grad_v,
                             CONSTANT real *prm, const real dt, GLOBAL real *alpha, real *ratio) {
     const mat tau_old = hsym_load(tau, n, i);

@@ -62,6 +62,7 @@
 
 #include "sph_vec.h"
 #include "sph_smoothing_kernel.h"
+#include "sph_contact.h"
 
 /* The 8-point Gauss-Legendre rule on [-1, 1]: nodes +-x_k, weights w_k
  * (exact for the 3D Wendland integrand, a polynomial of degree 7). */
@@ -109,14 +110,10 @@ FN real wall_plane_kernel(CONSTANT real *prm, const real d) {
 /* Wall pressure p_w of a particle at the signed distance d, moving at v_n
  * along the wall's normal, with the pressure p_i. */
 FN real wall_pressure(CONSTANT real *prm, const real d, const real v_n, const real p_i) {
-    real p = fmax(p_i, R(0));
-    if (v_n < R(0)) p -= prm[PRM_CONTACT_IMPEDANCE] * prm[PRM_RHO0] * prm[PRM_C0] * v_n;
-    const real half_dp = R(0.5) * prm[PRM_DP];
-    if (d < half_dp) {
-        const real overlap = R(1) - d / half_dp;
-        p += prm[PRM_CONTACT_PENALTY] * prm[PRM_K] * overlap * overlap;
-    }
-    return p;
+    /* the penalty's reach is half a spacing: the wall is the mirror plane
+     * of a pair */
+    return fmax(p_i, R(0)) + contact_impedance_pressure(prm, R(1), v_n) +
+           contact_penalty_pressure(prm, d, R(0.5) * prm[PRM_DP]);
 }
 
 /* Acceleration of a particle at x (the half-step position) moving at v,

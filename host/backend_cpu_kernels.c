@@ -279,15 +279,17 @@ static void probe_stress_update(const double *prm_in, const double *grad_v_in, d
                                 double *tau_io, double *alpha_io) {
     real prm[PRM_COUNT];
     params_to_real(prm_in, prm);
-    mat tau, grad_v;
+    /* the stress as the field of a one-particle set (sym_index layout) */
+    hreal stored[NSYM];
+    mat grad_v;
     for (int a = 0; a < SPH_DIM; ++a)
         for (int c = 0; c < SPH_DIM; ++c) {
-            tau.m[a][c] = (real)tau_io[a * SPH_DIM + c];
+            stored[sym_index(a, c)] = (hreal)tau_io[a * SPH_DIM + c];
             grad_v.m[a][c] = (real)grad_v_in[a * SPH_DIM + c];
         }
     real alpha = alpha_io ? (real)*alpha_io : R(0), ratio;
     const mat out =
-        shear_stress_update(tau, grad_v, prm, (real)dt, alpha_io ? &alpha : NULL, 0, &ratio);
+        shear_stress_advance(stored, 1, 0, grad_v, prm, (real)dt, alpha_io ? &alpha : NULL, &ratio);
     for (int a = 0; a < SPH_DIM; ++a)
         for (int c = 0; c < SPH_DIM; ++c) tau_io[a * SPH_DIM + c] = (double)out.m[a][c];
     if (alpha_io) *alpha_io = (double)alpha;

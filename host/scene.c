@@ -1293,23 +1293,38 @@ static sph_status parse_axes(loader *L, const config_setting_t *c, bool required
     return SPH_OK;
 }
 
+/* Element `index` of a list of named groups (bodies, observers, walls): a
+ * group of only `keys` whose `name` differs from those of the elements
+ * before it, names + k * stride (the name member of an array of structs).
+ * `expected` describes the group for the message, `kind` and `list` name
+ * the element and its list. */
+static sph_status named_group_element(loader *L, const config_setting_t *g, int index,
+                                      const char *expected, const char *kind, const char *list,
+                                      const char *const *keys, int nkeys, const char *names,
+                                      size_t stride, const char **name,
+                                      const config_setting_t **at) {
+    if (!config_setting_is_group(g))
+        return fail_at(L, g, NULL, "expected %s, got %s", expected,
+                       type_name(config_setting_type(g)));
+    sph_status st;
+    if ((st = check_keys(L, g, keys, nkeys)) || (st = get_name(L, g, "name", name, at))) return st;
+    for (int k = 0; k < index; k++)
+        if (strcmp(names + (size_t)k * stride, *name) == 0)
+            return fail_at(L, *at, NULL, "duplicate %s name '%s' (%s.[%d] has it too)", kind, *name,
+                           list, k);
+    return SPH_OK;
+}
+
 static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     sph_scene *sc = L->scene;
     sph_body *body = &sc->bodies[index];
-    if (!config_setting_is_group(b))
-        return fail_at(L, b, NULL, "expected a body group { name; material; shape; }, got %s",
-                       type_name(config_setting_type(b)));
     const config_setting_t *at, *vel, *cons;
     const char *name = "", *material = "", *shape = "";
-    sph_status st;
-    if ((st = check_keys(L, b,
-                         KEYS("name", "material", "shape", "initial_velocity", "constraints"))) ||
-        (st = get_name(L, b, "name", &name, &at)))
-        return st;
-    for (int i = 0; i < index; i++)
-        if (strcmp(sc->bodies[i].name, name) == 0)
-            return fail_at(L, at, NULL, "duplicate body name '%s' (bodies.[%d] has it too)", name,
-                           i);
+    sph_status st = named_group_element(
+        L, b, index, "a body group { name; material; shape; }", "body", "bodies",
+        KEYS("name", "material", "shape", "initial_velocity", "constraints"), sc->bodies[0].name,
+        sizeof sc->bodies[0], &name, &at);
+    if (st) return st;
     snprintf(body->name, sizeof body->name, "%s", name);
     where_of(L, b, body->where, sizeof body->where);
 
@@ -1398,17 +1413,11 @@ static sph_status parse_observers(loader *L, const config_setting_t *root) {
         return fail_at(L, list, NULL, "at most %d observers, got %d", SPH_SCENE_MAX_OBSERVERS, n);
     for (int i = 0; i < n; i++) {
         const config_setting_t *o = config_setting_get_elem(list, (unsigned)i), *at;
-        if (!config_setting_is_group(o))
-            return fail_at(L, o, NULL, "expected an observer group { name; position; }, got %s",
-                           type_name(config_setting_type(o)));
         const char *name = "";
-        if ((st = check_keys(L, o, KEYS("name", "position"))) ||
-            (st = get_name(L, o, "name", &name, &at)))
+        if ((st = named_group_element(L, o, i, "an observer group { name; position; }", "observer",
+                                      "observers", KEYS("name", "position"), sc->observers[0].name,
+                                      sizeof sc->observers[0], &name, &at)))
             return st;
-        for (int k = 0; k < i; k++)
-            if (strcmp(sc->observers[k].name, name) == 0)
-                return fail_at(L, at, NULL,
-                               "duplicate observer name '%s' (observers.[%d] has it too)", name, k);
         snprintf(sc->observers[i].name, sizeof sc->observers[i].name, "%s", name);
         if ((st = get_vector(L, o, "position", true, sc->dim, sc->observers[i].position, &at)))
             return st;
@@ -1572,18 +1581,12 @@ static sph_status parse_walls(loader *L, const config_setting_t *root) {
     }
     for (int i = 0; i < n; i++) {
         const config_setting_t *w = config_setting_get_elem(list, (unsigned)i), *at;
-        if (!config_setting_is_group(w))
-            return fail_at(L, w, NULL, "expected a wall group { name; point; normal; }, got %s",
-                           type_name(config_setting_type(w)));
         const char *name = "";
         sph_wall *wall = &sc->walls[i];
-        if ((st = check_keys(L, w, KEYS("name", "point", "normal"))) ||
-            (st = get_name(L, w, "name", &name, &at)))
+        if ((st = named_group_element(L, w, i, "a wall group { name; point; normal; }", "wall",
+                                      "walls", KEYS("name", "point", "normal"), sc->walls[0].name,
+                                      sizeof sc->walls[0], &name, &at)))
             return st;
-        for (int k = 0; k < i; k++)
-            if (strcmp(sc->walls[k].name, name) == 0)
-                return fail_at(L, at, NULL, "duplicate wall name '%s' (walls.[%d] has it too)",
-                               name, k);
         snprintf(wall->name, sizeof wall->name, "%s", name);
         where_of(L, w, wall->where, sizeof wall->where);
         if ((st = get_vector(L, w, "point", true, sc->dim, wall->point, NULL)) ||

@@ -26,11 +26,11 @@ def finish(name):
     sys.exit(1 if _counts["failed"] else 0)
 
 
-def run_sphsolid(scene, backend, out, sets=(), timeout=900):
-    """`sphsolid run SCENE --backend BACKEND --quiet --out OUT --set S ...`:
+def run_sphsolid(scene, backend, out, sets=(), timeout=900, options=()):
+    """`sphsolid run SCENE --backend BACKEND --quiet --out OUT [OPTIONS] --set S ...`:
     (exit status, stderr stripped)."""
     import subprocess
-    cmd = [BIN, "run", scene, "--backend", backend, "--quiet", "--out", out]
+    cmd = [BIN, "run", scene, "--backend", backend, "--quiet", "--out", out] + list(options)
     for s in sets:
         cmd += ["--set", s]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)

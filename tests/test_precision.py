@@ -35,7 +35,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import BIN, PLATE, check, finish, run_results  # noqa: E402
+from sphtest import PLATE, check, finish, run_results, run_sphsolid  # noqa: E402
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 VELOCITY = np.array([3.0, -2.0])
@@ -58,14 +58,10 @@ monitor = { domain = { lower = [9.0, 8.0]; upper = [12.0, 11.0]; }; };
 
 
 def run(scene, out, precision, sets=(), extra=()):
-    import subprocess
-    cmd = [BIN, "run", scene, "--backend", BACKEND, "--precision", precision, "--quiet",
-           "--out", out] + list(extra)
-    for s in sets:
-        cmd += ["--set", s]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
-    check(p.returncode == 0, f"{precision} run of {scene}: exit {p.returncode} ({p.stderr})")
-    return p.returncode == 0
+    code, err = run_sphsolid(scene, BACKEND, out, sets,
+                             options=["--precision", precision] + list(extra))
+    check(code == 0, f"{precision} run of {scene}: exit {code} ({err})")
+    return code == 0
 
 
 tmp = tempfile.mkdtemp(prefix="sphsolid-precision-")
