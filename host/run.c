@@ -47,6 +47,10 @@ static sph_status restart_scene(const sph_run_options *opt, sph_scene *scene, sp
     sph_checkpoint_path(opt->restart_dir, origin, sizeof origin);
     st = sph_scene_load_text(scene, origin, text, opt->overrides, opt->noverrides, err);
     free(text);
+    /* relaxed bodies are relaxed again in memory (deterministic: the same
+     * bits), not read from or written to a file next to the checkpoint,
+     * where a relative relaxation.file of the stored scene would point */
+    for (int b = 0; !st && b < scene->nbodies; b++) scene->bodies[b].relaxation.file[0] = '\0';
     return st;
 }
 
@@ -65,6 +69,13 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
     sim->scene_loaded = true;
     st = sph_particles_generate(&sim->scene, &sim->particles, err);
     if (st) return st;
+    for (int b = 0; b < sim->scene.nbodies && !opt->quiet; b++) {
+        if (!sim->particles.relax[b].relaxed) continue;
+        char line[4096];
+        sph_relax_report_format(&sim->particles.relax[b], sim->scene.bodies[b].name,
+                                sim->scene.bodies[b].relaxation.file, line, sizeof line);
+        fprintf(stderr, "sphsolid: %s\n", line);
+    }
     sph_features_from_scene(&sim->scene, &sim->particles, opt->precision, &sim->features);
     st = sph_params_fill(&sim->scene, &sim->particles, &sim->features, sim->prm, err);
     if (!st) st = sph_observers_init(&sim->scene, &sim->particles, sim->prm, &sim->observers, err);
