@@ -134,6 +134,15 @@ static sph_status relax_bodies(const sph_scene *scene, const double origin[3], b
         for (int a = 0; a < dim; a++)
             memcpy(x + (size_t)a * (size_t)count, out->pos + (size_t)a * n + (size_t)start,
                    (size_t)count * sizeof *x);
+        /* what each constraint region holds on the lattice and after */
+        const sph_body *body = &scene->bodies[b];
+        long held[SPH_SCENE_MAX_CONSTRAINTS] = {0}, kept[SPH_SCENE_MAX_CONSTRAINTS] = {0};
+        for (long i = 0; i < count; i++) {
+            double y[3] = {0, 0, 0};
+            for (int a = 0; a < dim; a++) y[a] = x[(size_t)a * (size_t)count + (size_t)i];
+            for (int k = 0; k < body->nconstraints; k++)
+                held[k] += sph_shape_contains(scene, body->constraints[k].region, y);
+        }
         sph_status st = sph_relax_body(scene, b, origin, (int)count, x, force, &out->relax[b], err);
         if (!st) {
             for (long i = 0; i < count; i++) {
@@ -143,10 +152,23 @@ static sph_status relax_bodies(const sph_scene *scene, const double origin[3], b
                     out->pos[(size_t)a * n + (size_t)(start + i)] = y[a];
                 }
                 set_point_data(scene, b, out, start + i, y);
+                for (int k = 0; k < body->nconstraints; k++)
+                    kept[k] += sph_shape_contains(scene, body->constraints[k].region, y);
             }
         }
         free(x);
         if (st) return st;
+        /* relaxed particles keep dp/2 from the body's surface: a region
+         * thinner than that along the surface may lose every particle */
+        for (int k = 0; k < body->nconstraints; k++)
+            if (held[k] > 0 && kept[k] == 0)
+                return sph_fail(
+                    err, SPH_ERR_INPUT,
+                    "%s: constraint %d (region '%s') holds %ld of the lattice particles but "
+                    "none of the relaxed ones, which keep dp/2 = %g inside the "
+                    "body's surface; make the region reach deeper into the body",
+                    body->where, k, scene->shapes[body->constraints[k].region].name, held[k],
+                    0.5 * scene->dp);
         start += count;
     }
     out->fixed_count = 0;

@@ -3,24 +3,28 @@
  * A body with placement = "relaxed" starts from its lattice particles (the
  * same count and volume dp^d each, so masses and energies are those of the
  * lattice), offset by a seeded pseudo-random displacement, and relaxes
- * them towards zeroth-order consistency, sum_j grad W_ij V_j = 0, as 004
- * (§4) and the reference code (SPHinXsys: RelaxationStepInner with a
- * level-set shape) do for rings, balls and bars.  Each step:
+ * them towards zeroth-order consistency, sum_j grad W_ij V_j = 0: 004 eq. 4
+ * (a_i = -(2/rho_i) sum_j V_j grad W_ij, after Litvinov et al. 2015), the
+ * level-set pre-processing of Yu et al. 2023 that 000 cites ([55]) for its
+ * initial particles, and the reference code's RelaxationStepInner with a
+ * level-set shape.  Each step:
  *
- *   a_i = -2 [ sum_j grad_i W_ij V_j + G(d_i) n_i ]
+ *   a_i = -2 [ sum_j grad_i W_ij V_j + B(x_i) ],  B(x) = int_outside grad_x W(x - y) dy
  *
  * a constant unit "pressure" pushing particles apart, plus the part of the
- * kernel's support that lies outside the shape, taken as the half-space
- * beyond the surface at the particle's depth d_i = -phi(x_i) along the
- * outward normal n_i (shape_sdf.h): G(d) = int_{z > d} -W'(r) z/r dV,
- * tabulated once per kernel (sph_kernel_half_space).  The step is
+ * kernel's support that lies outside the shape.  B comes from the shape's
+ * signed distance (shape_sdf.h) on a background mesh, like the reference
+ * code's kernel-gradient integral on its level-set mesh; the half-space
+ * integral G(d) (sph_kernel_half_space, exact beyond a plane at the depth
+ * d) checks it and is what B reduces to at a flat face.  The step is
  * x += a dt^2 / 2 with dt = 0.25 sqrt(h / max|a|), i.e. no particle moves
- * more than h/32; a particle closer than dp/2 to the surface is then put
- * back on phi = -dp/2 along the normal (the reference code's
- * ShapeSurfaceBounding): a particle stands for a cell of width dp, so the
- * outermost particles sit half a spacing inside, as on the lattice.
+ * more than h/32, dt frozen once max|a| falls below a tenth of its start;
+ * a particle closer than dp/2 to the surface is then put back on
+ * phi = -dp/2 along the normal (the reference code's ShapeSurfaceBounding):
+ * a particle stands for a cell of width dp, so the outermost particles sit
+ * half a spacing inside, as on the lattice.
  *
- * The residual of particle i is |sum_j grad_i W_ij V_j + G(d_i) n_i| h
+ * The residual of particle i is |sum_j grad_i W_ij V_j + B(x_i)| h
  * (dimensionless; 0 for a perfectly consistent distribution).
  *
  * Relaxed positions are saved to and reused from an HDF5 file

@@ -264,6 +264,25 @@ static json_object *summary_json(const sph_simulation *sim) {
     }
 
     json_object_object_add(root, "particle_count", json_object_new_int(sim->particles.n));
+    /* how the relaxed bodies were placed (docs/scene-format.md, "Relaxed placement") */
+    json_object *relaxed = json_object_new_array();
+    for (int b = 0; b < sc->nbodies; ++b) {
+        const sph_relax_report *r = &sim->particles.relax[b];
+        if (!r->relaxed) continue;
+        json_object *o = json_object_new_object();
+        json_object_object_add(o, "body", json_object_new_string(sc->bodies[b].name));
+        json_object_object_add(o, "particles", json_object_new_int(r->particles));
+        json_object_object_add(o, "steps", json_object_new_int(r->steps));
+        json_object_object_add(o, "residual_mean", num(r->mean));
+        json_object_object_add(o, "residual_max", num(r->max));
+        json_object_object_add(o, "residual_start_mean", num(r->start_mean));
+        json_object_object_add(o, "residual_lattice_mean", num(r->lattice_mean));
+        json_object_object_add(o, "min_distance", num(r->min_distance));
+        json_object_object_add(o, "file", json_object_new_string(sc->bodies[b].relaxation.file));
+        json_object_object_add(o, "reused", json_object_new_boolean(r->reused));
+        json_object_array_add(relaxed, o);
+    }
+    json_object_object_add(root, "relaxed_bodies", relaxed);
     json_object_object_add(root, "snapshots", json_object_new_int(sim->snapshot_count));
     json_object *fields = json_object_new_array();
     for (int k = 0; k < SPH_OUT_COUNT; ++k)

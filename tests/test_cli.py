@@ -63,6 +63,11 @@ try:
                     "/")
     check(code == 0 and "reused from " + os.path.join(tmp, "plate_relaxed.h5") in err,
           f"run with the relaxed file: exit {code}: {err.strip()[:400]}")
+    if code == 0:
+        rb = json.load(open(os.path.join(out, "summary.json")))["relaxed_bodies"]
+        check(len(rb) == 1 and rb[0]["body"] == "plate" and rb[0]["reused"]
+              and rb[0]["steps"] == 50 and 0 < rb[0]["residual_mean"] < rb[0]["residual_start_mean"],
+              f"summary.json relaxed_bodies: {rb}")
     p = subprocess.run([BIN, "relax", PLATE], capture_output=True, text=True)
     check(p.returncode == 2 and "no body has placement = \"relaxed\"" in p.stderr,
           f"relax without a relaxed body: exit {p.returncode}: {p.stderr.strip()}")

@@ -530,6 +530,36 @@ static void test_constraints(test_counts *c) {
     sph_scene_free(&s);
 }
 
+/* A constraint region that held lattice particles but holds no relaxed
+ * one is an input error naming the body and the region. */
+static void test_lost_region(test_counts *c) {
+    static const char text[] =
+        "dimension = 2;\n"
+        "resolution = { dp = 0.01; };\n"
+        "method = { formulation = \"enog-a\"; };\n"
+        "time = { end = 1.0; output_interval = 0.1; };\n"
+        "materials = { m = { density = 1000.0; youngs_modulus = 1.0e6; poisson_ratio = 0.3; }; "
+        "};\n"
+        "shapes = { block = { type = \"box\"; lower = [0.0, 0.0]; upper = [0.1, 0.1]; };\n"
+        "  pin = { type = \"box\"; lower = [0.0449, 0.0049]; upper = [0.0451, 0.0051]; }; };\n"
+        "bodies = ( { name = \"a\"; material = \"m\"; shape = \"block\"; placement = "
+        "\"relaxed\";\n"
+        "  relaxation = { steps = 20; }; constraints = ( { type = \"fixed\"; region = \"pin\"; "
+        "} ); } );\n";
+    sph_scene s;
+    if (!load_text(c, text, NULL, 0, &s)) return;
+    sph_particles p;
+    sph_error err = {0};
+    const sph_status st = sph_particles_generate(&s, &p, &err);
+    CHECK(c,
+          st == SPH_ERR_INPUT &&
+              strstr(err.msg, ": bodies.a: constraint 0 (region 'pin') holds 1 "
+                              "of the lattice particles but none of the relaxed"),
+          "a region that loses its particles: status %d, '%s'", st, err.msg);
+    if (st == SPH_OK) sph_particles_free(&p);
+    sph_scene_free(&s);
+}
+
 int main(void) {
     test_counts c = {0, 0};
     if (test_scene_dir_open(&tmp, "test_relax") != 0) return 2;
@@ -556,6 +586,7 @@ int main(void) {
     check_relaxed(&c, "ring 2D", RING, &ring, true);
     check_relaxed(&c, "shell 3D", SHELL, &shell, false);
     test_constraints(&c);
+    test_lost_region(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_relax", &c);
 }
