@@ -6,6 +6,7 @@
  *                      [--plot]
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
+ *   sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]
  *   sphsolid devices
  *   sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K] [--json]
  *
@@ -17,9 +18,11 @@
 #include "compare.h"
 #include "opencl_runtime.h"
 #include "plot.h"
+#include "particles.h"
 #include "run.h"
 
 #include <errno.h>
+#include <stdbool.h>
 #include <math.h>
 #include <limits.h>
 #include <stdio.h>
@@ -36,6 +39,7 @@ static void usage(FILE *f) {
         "                          [--progress-interval S] [--plot]\n"
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
         "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
+        "       sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]\n"
         "       sphsolid devices\n"
         "       sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K]\n"
         "                          [--json]\n"
@@ -53,6 +57,10 @@ static void usage(FILE *f) {
         "--restart DIR         continue the run in DIR from its checkpoint (in DIR, or --out)\n"
         "--progress-interval S seconds between progress lines when stderr is not a terminal\n"
         "--plot    write PNG plots into DIR/plots after the run (tools/plot_run.py)\n"
+        "relax     relax the particles of the bodies with placement = \"relaxed\" ahead of a\n"
+        "          run, save them to their relaxation.file and print the residuals;\n"
+        "          --out FILE saves the one relaxed body to FILE, --force relaxes even\n"
+        "          when the file matches\n"
         "compare   per-field maximum differences of two runs' snapshots and time series\n"
         "bandwidth the device's memory bandwidth: a streaming copy, GB/s (read + write)\n"
         "exit status: 0 success, 2 bad input, 1 runtime failure, 3 compare: beyond tolerance,\n"
@@ -225,6 +233,87 @@ static int cmd_run(int argc, char **argv) {
     return (int)st;
 }
 
+/* sphsolid relax: the placement of a run without the run. */
+static int cmd_relax(int argc, char **argv) {
+    const char **overrides = calloc((size_t)argc + 1, sizeof(char *));
+    if (!overrides) return SPH_ERR_RUNTIME;
+    int noverrides = 0;
+    const char *scene_path = NULL, *out = NULL;
+    bool force = false;
+    for (int k = 0; k < argc; ++k) {
+        const char *a = argv[k];
+        if (strcmp(a, "--set") == 0 || strcmp(a, "--out") == 0) {
+            if (k + 1 >= argc) {
+                free(overrides);
+                return input_error("%s needs a value", a);
+            }
+            if (strcmp(a, "--set") == 0)
+                overrides[noverrides++] = argv[++k];
+            else
+                out = argv[++k];
+        } else if (strcmp(a, "--force") == 0) {
+            force = true;
+        } else if (a[0] == '-') {
+            free(overrides);
+            return input_error("unknown option %s", a);
+        } else if (!scene_path) {
+            scene_path = a;
+        } else {
+            free(overrides);
+            return input_error("unexpected argument %s (one scene)", a);
+        }
+    }
+    if (!scene_path) {
+        free(overrides);
+        return input_error("%s", "relax needs a scene file");
+    }
+    sph_scene *scene = malloc(sizeof *scene);
+    sph_particles p;
+    sph_error err = {0};
+    sph_status st = scene ? sph_scene_load(scene, scene_path, overrides, noverrides, &err)
+                          : sph_fail(&err, SPH_ERR_RUNTIME, "out of memory");
+    free(overrides);
+    if (st) {
+        fprintf(stderr, "sphsolid: %s\n", err.msg);
+        free(scene);
+        return (int)st;
+    }
+    int relaxed = 0, which = -1;
+    for (int b = 0; b < scene->nbodies; b++)
+        if (scene->bodies[b].placement == SPH_PLACEMENT_RELAXED) relaxed++, which = b;
+    if (relaxed == 0)
+        st = sph_fail(&err, SPH_ERR_INPUT,
+                      "%s: no body has placement = \"relaxed\" (e.g. --set "
+                      "bodies.%s.placement=relaxed)",
+                      scene_path, scene->bodies[0].name);
+    else if (out && relaxed > 1)
+        st = sph_fail(&err, SPH_ERR_INPUT,
+                      "--out %s: the scene has %d bodies with placement = \"relaxed\"; --out "
+                      "names the file of one (give each body its relaxation.file instead)",
+                      out, relaxed);
+    else if (out && strlen(out) >= sizeof scene->bodies[which].relaxation.file)
+        st = sph_fail(&err, SPH_ERR_INPUT, "--out: the path is too long");
+    if (!st && out)
+        snprintf(scene->bodies[which].relaxation.file, sizeof scene->bodies[which].relaxation.file,
+                 "%s", out);
+    if (!st) st = sph_particles_generate_ex(scene, &p, force, &err);
+    if (st) {
+        fprintf(stderr, "sphsolid: %s\n", err.msg);
+    } else {
+        for (int b = 0; b < scene->nbodies; b++) {
+            if (!p.relax[b].relaxed) continue;
+            char line[4096];
+            sph_relax_report_format(&p.relax[b], scene->bodies[b].name,
+                                    scene->bodies[b].relaxation.file, line, sizeof line);
+            printf("%s\n", line);
+        }
+        sph_particles_free(&p);
+    }
+    sph_scene_free(scene);
+    free(scene);
+    return (int)st;
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) {
         usage(stderr);
@@ -244,6 +333,7 @@ int main(int argc, char **argv) {
         return 0;
     }
     if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
+    if (strcmp(argv[1], "relax") == 0) return cmd_relax(argc - 2, argv + 2);
     if (strcmp(argv[1], "compare") == 0) return sph_compare_main(argc - 2, argv + 2);
     if (strcmp(argv[1], "bandwidth") == 0) return sph_bandwidth_main(argc - 2, argv + 2);
     return input_error("unknown command '%s'", argv[1]);

@@ -2,6 +2,8 @@
  * ownership, initial velocity, fixed-constraint flags (see particles.h). */
 #include "particles.h"
 
+#include "relax.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -87,6 +89,93 @@ static bool shared_volume(const sph_scene *scene, int s1, int s2, const double x
     return true;
 }
 
+/* What follows from particle n's position x in body b: velocity, mass,
+ * density and the constraint flag (placed or relaxed). */
+static void set_point_data(const sph_scene *scene, int b, sph_particles *out, long n,
+                           const double x[3]) {
+    const int dim = scene->dim;
+    const sph_body *body = &scene->bodies[b];
+    const sph_material *mat = &scene->materials[body->material];
+    double v[3];
+    sph_velocity_field_eval(scene, body, x, v);
+    for (int a = 0; a < dim; a++) out->vel[(size_t)a * (size_t)out->n + (size_t)n] = v[a];
+    out->mass[n] = mat->density * pow(scene->dp, dim);
+    out->rho[n] = mat->density;
+    if (out->fixed) {
+        /* the first of the body's constraints whose region holds the
+         * particle; its index in the scene's constraint table
+         * (sph_constraint_index) + 1 */
+        uint8_t fixed = 0;
+        for (int c = 0; c < body->nconstraints && !fixed; c++)
+            if (sph_shape_contains(scene, body->constraints[c].region, x))
+                fixed = (uint8_t)(sph_constraint_index(scene, b, c) + 1);
+        out->fixed[n] = fixed;
+    }
+}
+
+/* Replace the lattice particles of every body with placement = "relaxed"
+ * by their relaxed positions (relax.h), then their velocities and
+ * constraint flags by those at the new positions. */
+static sph_status relax_bodies(const sph_scene *scene, const double origin[3], bool force,
+                               sph_particles *out, sph_error *err) {
+    const int dim = scene->dim;
+    const size_t n = (size_t)out->n;
+    long start = 0;
+    for (int b = 0; b < scene->nbodies; b++) {
+        const long count = out->body_count[b];
+        if (scene->bodies[b].placement != SPH_PLACEMENT_RELAXED) {
+            start += count;
+            continue;
+        }
+        double *x = malloc((size_t)dim * (size_t)count * sizeof *x);
+        if (!x)
+            return sph_fail(err, SPH_ERR_RUNTIME, "out of memory relaxing body '%s'",
+                            scene->bodies[b].name);
+        for (int a = 0; a < dim; a++)
+            memcpy(x + (size_t)a * (size_t)count, out->pos + (size_t)a * n + (size_t)start,
+                   (size_t)count * sizeof *x);
+        /* what each constraint region holds on the lattice and after */
+        const sph_body *body = &scene->bodies[b];
+        long held[SPH_SCENE_MAX_CONSTRAINTS] = {0}, kept[SPH_SCENE_MAX_CONSTRAINTS] = {0};
+        for (long i = 0; i < count; i++) {
+            double y[3] = {0, 0, 0};
+            for (int a = 0; a < dim; a++) y[a] = x[(size_t)a * (size_t)count + (size_t)i];
+            for (int k = 0; k < body->nconstraints; k++)
+                held[k] += sph_shape_contains(scene, body->constraints[k].region, y);
+        }
+        sph_status st = sph_relax_body(scene, b, origin, (int)count, x, force, &out->relax[b], err);
+        if (!st) {
+            for (long i = 0; i < count; i++) {
+                double y[3] = {0, 0, 0};
+                for (int a = 0; a < dim; a++) {
+                    y[a] = x[(size_t)a * (size_t)count + (size_t)i];
+                    out->pos[(size_t)a * n + (size_t)(start + i)] = y[a];
+                }
+                set_point_data(scene, b, out, start + i, y);
+                for (int k = 0; k < body->nconstraints; k++)
+                    kept[k] += sph_shape_contains(scene, body->constraints[k].region, y);
+            }
+        }
+        free(x);
+        if (st) return st;
+        /* relaxed particles keep dp/2 from the body's surface: a region
+         * thinner than that along the surface may lose every particle */
+        for (int k = 0; k < body->nconstraints; k++)
+            if (held[k] > 0 && kept[k] == 0)
+                return sph_fail(
+                    err, SPH_ERR_INPUT,
+                    "%s: constraint %d (region '%s') holds %ld of the lattice particles but "
+                    "none of the relaxed ones, which keep dp/2 = %g inside the "
+                    "body's surface; make the region reach deeper into the body",
+                    body->where, k, scene->shapes[body->constraints[k].region].name, held[k],
+                    0.5 * scene->dp);
+        start += count;
+    }
+    out->fixed_count = 0;
+    for (size_t i = 0; out->fixed && i < n; i++) out->fixed_count += out->fixed[i] != 0;
+    return SPH_OK;
+}
+
 /* The first point where a body overlaps an earlier one. */
 typedef struct {
     int other; /* the earlier body, -1: none */
@@ -128,28 +217,11 @@ static long scan_body(const sph_scene *scene, int b, const double origin[3], sph
                 }
                 if (taken) continue;
                 if (out) {
-                    const sph_material *mat = &scene->materials[body->material];
-                    double v[3];
-                    sph_velocity_field_eval(scene, body, x, v);
-                    for (int a = 0; a < dim; a++) {
+                    for (int a = 0; a < dim; a++)
                         out->pos[(size_t)a * (size_t)out->n + (size_t)n] = x[a];
-                        out->vel[(size_t)a * (size_t)out->n + (size_t)n] = v[a];
-                    }
-                    out->mass[n] = mat->density * pow(dp, dim);
-                    out->rho[n] = mat->density;
                     out->id[n] = (int32_t)n;
                     out->body[n] = (uint8_t)b;
-                    if (out->fixed) {
-                        /* the first of the body's constraints whose region
-                         * holds the particle; its index in the scene's
-                         * constraint table (sph_constraint_index) + 1 */
-                        uint8_t fixed = 0;
-                        for (int c = 0; c < body->nconstraints && !fixed; c++)
-                            if (sph_shape_contains(scene, body->constraints[c].region, x))
-                                fixed = (uint8_t)(sph_constraint_index(scene, b, c) + 1);
-                        out->fixed[n] = fixed;
-                        out->fixed_count += fixed != 0;
-                    }
+                    set_point_data(scene, b, out, n, x);
                 }
                 n++;
             }
@@ -215,6 +287,11 @@ size_t sph_particles_bytes_each(int dim, bool constrained) {
 }
 
 sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sph_error *err) {
+    return sph_particles_generate_ex(scene, out, false, err);
+}
+
+sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out, bool force_relax,
+                                     sph_error *err) {
     memset(out, 0, sizeof *out);
     const int dim = scene->dim;
     out->dim = dim;
@@ -326,6 +403,13 @@ sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sp
 
     long start = 0;
     for (int b = 0; b < scene->nbodies; b++) start += scan_body(scene, b, origin, out, start, NULL);
+    out->fixed_count = 0;
+    for (size_t i = 0; out->fixed && i < n; i++) out->fixed_count += out->fixed[i] != 0;
+    sph_status rst = relax_bodies(scene, origin, force_relax, out, err);
+    if (rst) {
+        sph_particles_free(out);
+        return rst;
+    }
 
     /* a body may touch a wall (its particles' cells end on the wall's
      * surface, centres dp/2 in front) but not cross it */

@@ -13,6 +13,7 @@
 #ifndef SPH_PARTICLES_H
 #define SPH_PARTICLES_H
 
+#include "relax.h"
 #include "scene.h"
 
 #include <stdbool.h>
@@ -32,6 +33,8 @@ typedef struct {
     uint8_t *fixed;
     int body_count[SPH_SCENE_MAX_BODIES];
     int fixed_count;
+    /* bodies with placement = "relaxed": what their relaxation did */
+    sph_relax_report relax[SPH_SCENE_MAX_BODIES];
 } sph_particles;
 
 /* Place the particles.  Input errors (SPH_ERR_INPUT, naming the body or
@@ -41,6 +44,14 @@ typedef struct {
  * (checked before allocating, against sph_host_memory_available) or than an
  * int32 indexes. */
 sph_status sph_particles_generate(const sph_scene *scene, sph_particles *out, sph_error *err);
+/* The same; `force_relax` relaxes the bodies with placement = "relaxed"
+ * even when their files match (`sphsolid relax --force`).  Relaxed bodies
+ * start from their lattice particles (same count, mass rho0 dp^d), whose
+ * overlap and count checks above apply unchanged; their velocities and
+ * constraint flags are evaluated at the relaxed positions.  A failure to
+ * write a relaxation file is SPH_ERR_RUNTIME. */
+sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out, bool force_relax,
+                                     sph_error *err);
 void sph_particles_free(sph_particles *p);
 
 /* Host bytes of one particle in sph_particles. */

@@ -47,6 +47,10 @@ static sph_status restart_scene(const sph_run_options *opt, sph_scene *scene, sp
     sph_checkpoint_path(opt->restart_dir, origin, sizeof origin);
     st = sph_scene_load_text(scene, origin, text, opt->overrides, opt->noverrides, err);
     free(text);
+    /* relaxed bodies are relaxed again in memory (deterministic: the same
+     * bits), not read from or written to a file next to the checkpoint,
+     * where a relative relaxation.file of the stored scene would point */
+    for (int b = 0; !st && b < scene->nbodies; b++) scene->bodies[b].relaxation.file[0] = '\0';
     return st;
 }
 
@@ -65,6 +69,13 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
     sim->scene_loaded = true;
     st = sph_particles_generate(&sim->scene, &sim->particles, err);
     if (st) return st;
+    for (int b = 0; b < sim->scene.nbodies && !opt->quiet; b++) {
+        if (!sim->particles.relax[b].relaxed) continue;
+        char line[4096];
+        sph_relax_report_format(&sim->particles.relax[b], sim->scene.bodies[b].name,
+                                sim->scene.bodies[b].relaxation.file, line, sizeof line);
+        fprintf(stderr, "sphsolid: %s\n", line);
+    }
     sph_features_from_scene(&sim->scene, &sim->particles, opt->precision, &sim->features);
     st = sph_params_fill(&sim->scene, &sim->particles, &sim->features, sim->prm, err);
     if (!st) st = sph_observers_init(&sim->scene, &sim->particles, sim->prm, &sim->observers, err);
@@ -253,6 +264,25 @@ static json_object *summary_json(const sph_simulation *sim) {
     }
 
     json_object_object_add(root, "particle_count", json_object_new_int(sim->particles.n));
+    /* how the relaxed bodies were placed (docs/scene-format.md, "Relaxed placement") */
+    json_object *relaxed = json_object_new_array();
+    for (int b = 0; b < sc->nbodies; ++b) {
+        const sph_relax_report *r = &sim->particles.relax[b];
+        if (!r->relaxed) continue;
+        json_object *o = json_object_new_object();
+        json_object_object_add(o, "body", json_object_new_string(sc->bodies[b].name));
+        json_object_object_add(o, "particles", json_object_new_int(r->particles));
+        json_object_object_add(o, "steps", json_object_new_int(r->steps));
+        json_object_object_add(o, "residual_mean", num(r->mean));
+        json_object_object_add(o, "residual_max", num(r->max));
+        json_object_object_add(o, "residual_start_mean", num(r->start_mean));
+        json_object_object_add(o, "residual_lattice_mean", num(r->lattice_mean));
+        json_object_object_add(o, "min_distance", num(r->min_distance));
+        json_object_object_add(o, "file", json_object_new_string(sc->bodies[b].relaxation.file));
+        json_object_object_add(o, "reused", json_object_new_boolean(r->reused));
+        json_object_array_add(relaxed, o);
+    }
+    json_object_object_add(root, "relaxed_bodies", relaxed);
     json_object_object_add(root, "snapshots", json_object_new_int(sim->snapshot_count));
     json_object *fields = json_object_new_array();
     for (int k = 0; k < SPH_OUT_COUNT; ++k)

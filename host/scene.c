@@ -594,6 +594,13 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
              ++g)
             if (strcmp(walked, optional_groups[g]) == 0)
                 child = config_setting_add(parent, comp, CONFIG_TYPE_GROUP);
+        /* and a body's relaxation group: --set bodies.ring.relaxation.steps=200 */
+        if (!child && config_setting_is_group(parent) && strcmp(comp, "relaxation") == 0 &&
+            config_setting_parent(parent) == config_lookup(cfg, "bodies")) {
+            child = config_setting_add(parent, comp, CONFIG_TYPE_GROUP);
+            /* the group is the override's: an error about it names the --set */
+            if (child) config_setting_set_hook(child, (void *)ov);
+        }
         if (!child) {
             st = OV_FAIL("--set %s: %s: no such setting in the scene, so it cannot hold '%s'", ov,
                          walked, next);
@@ -1315,15 +1322,65 @@ static sph_status named_group_element(loader *L, const config_setting_t *g, int 
     return SPH_OK;
 }
 
+/* bodies[i].placement and bodies[i].relaxation (relax.h). */
+static sph_status parse_placement(loader *L, const config_setting_t *b, sph_body *body) {
+    int placement = 0;
+    const config_setting_t *g, *at;
+    sph_status st =
+        get_keyword(L, b, "placement", false, 0, KEYS("lattice", "relaxed"), &placement, NULL);
+    if (st || (st = get_group(L, b, "relaxation", false, &g))) return st;
+    body->placement = (sph_placement)placement;
+    sph_relaxation *r = &body->relaxation;
+    memset(r, 0, sizeof *r);
+    r->steps = 1000;
+    r->tolerance = 0.0;
+    r->perturbation = 0.25;
+    r->seed = 1;
+    if (!g) return SPH_OK;
+    if (body->placement != SPH_PLACEMENT_RELAXED)
+        return fail_at(L, g, NULL,
+                       "a relaxation group needs placement = \"relaxed\" in the same body (the "
+                       "body is placed on the lattice)");
+    int steps = 0, seed = 0;
+    if ((st = check_keys(L, g, KEYS("steps", "tolerance", "perturbation", "seed", "file"))) ||
+        (st = get_int(L, g, "steps", false, r->steps, &steps, &at)))
+        return st;
+    if (steps < 0 || steps > 1000000)
+        return fail_at(L, at, NULL, "must be in [0, 1000000], got %d", steps);
+    r->steps = steps;
+    if ((st = get_float(L, g, "tolerance", false, r->tolerance, 0.0, false, INFINITY, false,
+                        &r->tolerance)) ||
+        (st = get_float(L, g, "perturbation", false, r->perturbation, 0.0, false, 0.5, false,
+                        &r->perturbation)) ||
+        (st = get_int(L, g, "seed", false, (int)r->seed, &seed, &at)))
+        return st;
+    if (seed < 0) return fail_at(L, at, NULL, "must be >= 0, got %d", seed);
+    r->seed = seed;
+    if ((st = get_member(L, g, "file", false, &at))) return st;
+    if (!at) return SPH_OK;
+    const char *file = "";
+    if ((st = as_string(L, at, &file))) return st;
+    if (!*file) return fail_at(L, at, NULL, "must not be empty (leave the key out for no file)");
+    /* relative to the directory of the scene file, like every path a scene names */
+    const char *slash = strrchr(L->file, '/');
+    const int dirlen = file[0] == '/' || !slash ? 0 : (int)(slash - L->file) + 1;
+    if ((size_t)dirlen + strlen(file) >= sizeof r->file)
+        return fail_at(L, at, NULL, "the path is longer than %d characters",
+                       (int)sizeof r->file - 1);
+    snprintf(r->file, sizeof r->file, "%.*s%s", dirlen, L->file, file);
+    return SPH_OK;
+}
+
 static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     sph_scene *sc = L->scene;
     sph_body *body = &sc->bodies[index];
     const config_setting_t *at, *vel, *cons;
     const char *name = "", *material = "", *shape = "";
-    sph_status st = named_group_element(
-        L, b, index, "a body group { name; material; shape; }", "body", "bodies",
-        KEYS("name", "material", "shape", "initial_velocity", "constraints"), sc->bodies[0].name,
-        sizeof sc->bodies[0], &name, &at);
+    sph_status st = named_group_element(L, b, index, "a body group { name; material; shape; }",
+                                        "body", "bodies",
+                                        KEYS("name", "material", "shape", "initial_velocity",
+                                             "constraints", "placement", "relaxation"),
+                                        sc->bodies[0].name, sizeof sc->bodies[0], &name, &at);
     if (st) return st;
     snprintf(body->name, sizeof body->name, "%s", name);
     where_of(L, b, body->where, sizeof body->where);
@@ -1346,6 +1403,8 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     body->velocity.type = SPH_VELOCITY_ZERO;
     if ((st = get_group(L, b, "initial_velocity", false, &vel))) return st;
     if (vel && (st = parse_velocity(L, vel, &body->velocity))) return st;
+
+    if ((st = parse_placement(L, b, body))) return st;
 
     body->nconstraints = 0;
     if ((st = get_list(L, b, "constraints", false, &cons))) return st;
@@ -1970,6 +2029,10 @@ void sph_shape_bounds(const sph_scene *scene, int shape, double lower[3], double
 /* ------------------------------------------------------------------------ */
 /* names                                                                     */
 /* ------------------------------------------------------------------------ */
+
+const char *sph_placement_name(sph_placement p) {
+    return p == SPH_PLACEMENT_RELAXED ? "relaxed" : "lattice";
+}
 
 const char *sph_formulation_name(sph_formulation f) {
     switch (f) {

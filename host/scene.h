@@ -124,11 +124,29 @@ typedef struct {
     double velocity[3]; /* prescribed velocity (0 unless SPH_CONSTRAINT_VELOCITY) */
 } sph_constraint;
 
+/* How a body's particles are placed (particles.c, relax.c). */
+typedef enum {
+    SPH_PLACEMENT_LATTICE = 0, /* cell centres of the dp lattice */
+    SPH_PLACEMENT_RELAXED = 1  /* the lattice particles, perturbed and relaxed (relax.h) */
+} sph_placement;
+/* bodies[i].relaxation (docs/scene-format.md) */
+typedef struct {
+    int steps;           /* at most this many relaxation steps */
+    double tolerance;    /* stop once the mean residual is at most this (0: run all steps) */
+    double perturbation; /* amplitude of the initial random offset per axis, in dp */
+    long long seed;      /* of the offset's pseudo-random sequence */
+    /* where the relaxed positions are saved and reused ("": nowhere),
+     * resolved against the scene file's directory */
+    char file[SPH_SCENE_PATH_LEN];
+} sph_relaxation;
+
 typedef struct {
     char name[SPH_NAME_LEN];
     int material; /* index into materials */
     int shape;    /* index into shapes */
     sph_velocity_field velocity;
+    sph_placement placement;
+    sph_relaxation relaxation; /* placement == SPH_PLACEMENT_RELAXED */
     int nconstraints;
     sph_constraint constraints[SPH_SCENE_MAX_CONSTRAINTS];
     /* where it is defined, for messages about it after loading (overlaps,
@@ -270,5 +288,6 @@ const char *sph_rotation_name(sph_rotation r);
 const char *sph_kernel_name(sph_kernel k);
 const char *sph_stepping_name(sph_stepping s);
 const char *sph_output_field_name(sph_output_field f);
+const char *sph_placement_name(sph_placement p);
 
 #endif

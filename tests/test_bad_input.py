@@ -417,6 +417,19 @@ ROWS = [
     Row("output directory below a regular file", 1,
         ["cannot create output directory {dir}/file/out: Not a directory"],
         args=FAST, fs="below-file"),
+    # --- relaxed placement (bodies[i].placement = "relaxed", docs/scene-format.md)
+    Row("unknown key: a relaxation setting", 2,
+        ["{file}:{line}: bodies.plate.relaxation.stpes: unknown key 'stpes' "
+         "(did you mean 'steps'?)"],
+        [ed('material = "plate";',
+            'material = "plate"; placement = "relaxed"; relaxation = { stpes = 10; };')],
+        marker="stpes"),
+    Row("relaxation file in a missing directory", 1,
+        ["{file}:{line}: bodies.plate: saving the relaxed particles: cannot write",
+         "no-such-dir/plate.h5.partial: No such file or directory"],
+        [ed('material = "plate";', 'material = "plate"; placement = "relaxed"; '
+            'relaxation = { steps = 2; file = "no-such-dir/plate.h5"; };')],
+        marker="name = \"plate\"", offset=-1, args=FAST),
     Row("output directory on a read-only filesystem", 1,
         ["cannot create output directory {out}: Read-only file system"], args=FAST,
         fs="read-only"),

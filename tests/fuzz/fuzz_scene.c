@@ -203,6 +203,12 @@ void fuzz_scene_run(const uint8_t *data, size_t size, const char *origin, fuzz_s
         sph_scene_free(&again);
 
         if (!res->violation[0] && within_budget(&scene)) {
+            /* relaxed bodies: in memory only (a fuzz input writes no
+             * files) and a few steps, enough to run every path */
+            for (int b = 0; b < scene.nbodies; b++) {
+                scene.bodies[b].relaxation.file[0] = '\0';
+                if (scene.bodies[b].relaxation.steps > 5) scene.bodies[b].relaxation.steps = 5;
+            }
             sph_particles p;
             res->generated = true;
             res->particles = sph_particles_generate(&scene, &p, &res->err);
