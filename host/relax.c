@@ -119,7 +119,7 @@ static void state_free(relax_state *s) {
  *
  *   B(p) = int_{phi(y) > 0} grad_p W(p - y) dy
  *
- * on a mesh of spacing dp/4 (3D) or dp/8 (2D) covering the shape, by a
+ * on a mesh of spacing dp/2 (3D) or dp/4 (2D) covering the shape, by a
  * quadrature on a sample lattice twice as fine whose samples count by the
  * fraction of their cell outside the surface, clamp(1/2 + phi/q, 0, 1)
  * (q the sample spacing).  Particles interpolate B (multi-)linearly.  A
