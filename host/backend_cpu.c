@@ -26,16 +26,6 @@ typedef struct {
     uint64_t *keys_sorted;
 } cpu_impl;
 
-const cpu_kernels *cpu_kernels_for(int dim, bool double_precision) {
-    if (dim == 2) return double_precision ? &cpu_2d_f64 : &cpu_2d_f32;
-    return double_precision ? &cpu_3d_f64 : &cpu_3d_f32;
-}
-
-const cpu_kernels *cpu_kernels_for_features(const sph_features *f) {
-    if (f->mixed_precision) return f->dim == 2 ? &cpu_2d_mixed : &cpu_3d_mixed;
-    return cpu_kernels_for(f->dim, f->double_precision);
-}
-
 /* Run the loops on the OpenMP team?  With OMP_WAIT_POLICY=passive every
  * barrier puts the threads to sleep, and waking a sleeping vCPU costs far
  * more than a small scene's substep: on the 2-core CI machine the 1612-particle
