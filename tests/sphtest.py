@@ -37,6 +37,20 @@ def run_sphsolid(scene, backend, out, sets=(), timeout=900, options=()):
     return p.returncode, p.stderr.strip()
 
 
+def run_quiet(scene, backend, out, sets=(), timeout=900):
+    """Run a scene that must complete with the instability monitor quiet: checks the exit
+    status and the summary's status, and returns (summary, time series), or (None, None)
+    when the run failed."""
+    code, err = run_sphsolid(scene, backend, out, sets, timeout=timeout)
+    check(code == 0, f"exit {code} ({err})")
+    if code != 0:
+        return None, None
+    summ, ts = run_results(out)
+    check(summ["status"] == "completed" and "instability" not in summ,
+          f"monitor quiet ({summ.get('instability')})")
+    return summ, ts
+
+
 def run_results(out):
     """A run directory's summary.json (a dict) and timeseries.csv (a numpy
     structured array, columns by name)."""

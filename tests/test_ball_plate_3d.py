@@ -27,7 +27,6 @@ with its reason and the value measured on the native backend:
 - the ball comes back: its mean velocity at the end points away from the plate, with a
   restitution v_out / v0 in (0, 1) (measured 0.209).
 """
-import json
 import os
 import shutil
 import sys
@@ -37,7 +36,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import SRC, check, finish, run_results, run_sphsolid  # noqa: E402
+from sphtest import SRC, check, finish, run_quiet, snapshot_paths  # noqa: E402
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 DP = 0.02 / 3
@@ -47,12 +46,8 @@ try:
     scene = os.path.join(SRC, "cases", "ball_plate_3d", "scene.cfg")
     out = os.path.join(tmp, "run")
     sets = ["resolution.dp=%.15g" % DP, "time.end=0.012", "output.snapshot_interval=0.002"]
-    code, err = run_sphsolid(scene, BACKEND, out, sets, timeout=1800)
-    check(code == 0, f"exit {code} ({err})")
-    if code == 0:
-        summ, ts = run_results(out)
-        check(summ["status"] == "completed" and "instability" not in summ,
-              f"monitor quiet ({summ.get('instability')})")
+    summ, ts = run_quiet(scene, BACKEND, out, sets, timeout=1800)
+    if summ is not None:
         t, ke = ts["time"], ts["kinetic_energy"]
         ke_ball = 0.5 * RHO0 * 4 * np.pi / 3 * RADIUS**3 * V0**2
         check(abs(ke[0] / ke_ball - 1) < 0.02, f"KE0 {ke[0]:.2f} J against the ball's "
@@ -64,10 +59,8 @@ try:
         y = ts["plate_centre_y"]
         k = int(np.argmin(y))
         check(-0.12 <= y[k] <= -0.08, f"plate centre lowest {y[k]:.4f} m at {1e3 * t[k]:.2f} ms")
-        with open(os.path.join(out, "snapshots.hdf.series")) as f:
-            files = [os.path.join(out, s["name"]) for s in json.load(f)["files"]]
         clamp_u, closest, v_ball = 0.0, np.inf, 0.0
-        for path in files:
+        for path in snapshot_paths(out):
             with h5py.File(path, "r") as f:
                 x = f["VTKHDF/Points"][:]
                 u = f["VTKHDF/PointData/displacement"][:]
