@@ -42,6 +42,7 @@
 #include "sph_constraints.h"
 #include "sph_contact.h"
 #include "sph_wall.h"
+#include "sph_pair_geometry.h"
 
 #if SPH_HAS_ROTATION_AVG
 #    define ROTATION_AVG_PARAMS                                                                    \
@@ -87,12 +88,6 @@
 #else
 #    define PLASTIC_OUT_PARAMS
 #endif
-
-FN vec pair_direction(GLOBAL const real *restrict pair_e, const int stride, const int slot) {
-    vec e;
-    for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
-    return e;
-}
 
 /* Mean rotation of body b from the summed Rodrigues matrices (003 eq. 41). */
 FN mat mean_rotation(CONSTANT real *prm, GLOBAL const real *restrict substep_sums, const int b) {
@@ -149,8 +144,7 @@ KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, const real d
 
 KERNEL void acoustic_pressure(
     ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
-    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
-    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_DIR_PARAMS,
     GLOBAL const hreal *restrict rho, GLOBAL const real *restrict drho,
     GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
     GLOBAL const real *restrict acc_diss, GLOBAL hreal *restrict acc_shear,
@@ -158,7 +152,8 @@ KERNEL void acoustic_pressure(
     GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS STRESS_DIV_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    const int stride = n * cap;
+    const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
+    (void)stride;
     const real half_dt = R(0.5) * dt;
     const real p_i = half_step_pressure(prm, rho[i], drho[i], half_dt);
 
@@ -168,8 +163,8 @@ KERNEL void acoustic_pressure(
         const int slot = NBR_AT(i, k);
         const int j = nbr_j[slot];
         const real p_j = half_step_pressure(prm, rho[j], drho[j], half_dt);
-        sum = vec_add(sum, riemann_pressure_pair(p_i, p_j, pair_dwv[slot],
-                                                 pair_direction(pair_e, stride, slot)));
+        const pair_geometry g = PAIR_DIR(slot, j);
+        sum = vec_add(sum, riemann_pressure_pair(p_i, p_j, g.dwv, g.e));
     }
     const vec a_p = vec_add(vec_scale(sum, vol[i] / mass[i]), vec_load(acc_diss, n, i));
 
@@ -222,20 +217,18 @@ KERNEL void acoustic_pressure(
     verlet_advance(prm, n, i, dt, vec_add(a_p, a_s), pos, vel, CLAMP_ARG);
 }
 
-KERNEL void
-acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
-                        GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
-                        GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-                        GLOBAL const real *restrict pair_inv_r, GLOBAL const real *restrict vel,
-                        GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
-                        GLOBAL const real *restrict bmat, GLOBAL hreal *restrict rho,
-                        GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss,
-                        GLOBAL hreal *restrict tau,
-                        GLOBAL hreal *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS
-                            ART_OUT_PARAMS PLASTIC_OUT_PARAMS) {
+KERNEL void acoustic_velocity_terms(
+    ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
+    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
+    GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat, GLOBAL hreal *restrict rho,
+    GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss, GLOBAL hreal *restrict tau,
+    GLOBAL hreal *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS ART_OUT_PARAMS
+        PLASTIC_OUT_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    const int stride = n * cap;
+    const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
+    (void)stride;
     const real half_dt = R(0.5) * dt;
     const real z = prm[PRM_RHO0] * prm[PRM_C0];
     const real c0 = prm[PRM_C0];
@@ -249,13 +242,14 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
     for (int k = 0; k < count; ++k) {
         const int slot = NBR_AT(i, k);
         const int j = nbr_j[slot];
-        const vec e = pair_direction(pair_e, stride, slot);
-        const real dwv = pair_dwv[slot];
+        const pair_geometry g = PAIR_GEOMETRY(slot, j);
+        const vec e = g.e;
+        const real dwv = g.dwv;
         const vec v_ij = vec_sub(v_i, vec_load(vel, n, j));
         const real u = vec_dot(v_ij, e);
         divergence += riemann_continuity_pair(u, dwv);
         dissipation = vec_add(dissipation, riemann_dissipation_pair(u, c0, limiter_slope, dwv, e));
-        laplacian = vec_axpy(laplacian, u * dwv * pair_inv_r[slot], e);
+        laplacian = vec_axpy(laplacian, u * dwv * g.inv_r, e);
         grad_sum = mat_add_outer(grad_sum, dwv, v_ij, e);
     }
 
@@ -355,17 +349,15 @@ acoustic_velocity_terms(ITEM_PARAM const int n, const int cap, const real dt, CO
  *   or, averaged, Rbar (a^ + da) at the next acoustic_pressure (eq. 47). */
 KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const real dt,
                                  CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
-                                 GLOBAL const int *restrict nbr_j,
-                                 GLOBAL const real *restrict pair_e,
-                                 GLOBAL const real *restrict pair_dwv,
-                                 GLOBAL const real *restrict pair_inv_r,
+                                 GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
                                  GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
                                  GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
                                  GLOBAL real *restrict acc_stress PENALTY_PARAMS ART_IN_PARAMS
                                      PENALTY_SCALE_PARAMS PENALTY_AVG_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    const int stride = n * cap;
+    const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
+    (void)stride;
     const int formulation = RUNTIME_FORMULATION;
     (void)formulation; /* OG compiles in neither the artificial stress nor the penalty */
     const mat tau_i = hsym_load(tau, n, i);
@@ -391,13 +383,14 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const re
     for (int k = 0; k < count; ++k) {
         const int slot = NBR_AT(i, k);
         const int j = nbr_j[slot];
-        const vec e = pair_direction(pair_e, stride, slot);
-        const real dwv = pair_dwv[slot];
+        const pair_geometry g = PAIR_GEOMETRY(slot, j);
+        const vec e = g.e;
+        const real dwv = g.dwv;
         /* (tau_i + tau_j) . grad_i W V_j, grad_i W V_j = dW V_j e_ij */
         stress = vec_axpy(stress, dwv, mat_vec(mat_add(tau_i, hsym_load(tau, n, j)), e));
 #    if SPH_HAS_ART_STRESS
         if (art) {
-            const real w = kernel_w(prm, R(1) / pair_inv_r[slot]) * inv_wdp;
+            const real w = kernel_w(prm, R(1) / g.inv_r) * inv_wdp;
             real fn = R(1);
             for (int m = 0; m < (int)art_n; ++m) fn *= w; /* n is a whole number (4) */
             art_sum = vec_axpy(art_sum, (real)rho[j] * fn * dwv,
@@ -406,7 +399,7 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const re
 #    endif
 #    if SPH_HAS_PENALTY
         if (penalty) {
-            const real inv_r = pair_inv_r[slot];
+            const real inv_r = g.inv_r;
             const vec r_ij = vec_scale(e, R(1) / inv_r);
             const mat l_mean = mat_scale(mat_add(l_i, mat_load(gradv, n, j)), R(0.5));
             const vec v_hat =

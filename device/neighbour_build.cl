@@ -31,6 +31,7 @@
  */
 #include "sph_vec.h"
 #include "sph_smoothing_kernel.h"
+#include "sph_pair_geometry.h"
 
 #define SPH_TIKHONOV_EPS R(1e-8)
 #define SORT_PAD_KEY     ((ulong)0xFFFFFFFFFFFFFFFFUL)
@@ -152,20 +153,47 @@ FN mat refine_correction(const mat a, const mat b) {
  * geometry and B; the others are contact neighbours, stored from the top of
  * i's row down (slots cap - 1, cap - 2, ...; sph_contact.h), and the row
  * overflows when both together exceed it. */
-KERNEL void build_neighbours(
-    ITEM_PARAM const int n, const int cap, CONSTANT real *prm, GLOBAL const hreal *restrict pos,
-    GLOBAL const real *restrict vel, const real geometry_shift, GLOBAL const real *restrict vol,
-    const int gx, const int gy, const int gz, GLOBAL const ulong *restrict keys,
-    GLOBAL const int *restrict cell_start, GLOBAL const int *restrict cell_end,
-    GLOBAL int *restrict nbr_count, GLOBAL int *restrict nbr_j, GLOBAL real *restrict pair_e,
-    GLOBAL real *restrict pair_dwv, GLOBAL real *restrict pair_inv_r, GLOBAL real *restrict bmat,
-    GLOBAL int *restrict overflow PAIR_W_PARAMS CONTACT_BUILD_PARAMS) {
+#if SPH_PAIR_RECOMPUTE
+/* The shifted positions x + s v of every particle (s = geometry_shift, see
+ * the top), in the precision of the positions, once per rebuild after the
+ * fields are sorted: build_neighbours and the acoustic passes take every
+ * pair's geometry from these same values (sph_pair_geometry.h). */
+KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restrict pos,
+                              GLOBAL const real *restrict vel, const real geometry_shift,
+                              GLOBAL hreal *restrict pair_pos) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    for (int a = 0; a < SPH_DIM; ++a)
+        pair_pos[a * n + i] = pos[a * n + i] + (hreal)(geometry_shift * vel[a * n + i]);
+}
+/* the rebuild reads the shifted positions and stores no pair arrays */
+#    define BUILD_POSITION_PARAMS GLOBAL const hreal *restrict pair_pos
+#    define BUILD_PAIR_OUT_PARAMS
+#else
+#    define BUILD_POSITION_PARAMS                                                                  \
+        GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel, const real geometry_shift
+#    define BUILD_PAIR_OUT_PARAMS                                                                  \
+        , GLOBAL real *restrict pair_e, GLOBAL real *restrict pair_dwv,                            \
+            GLOBAL real *restrict pair_inv_r
+#endif
+
+KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT real *prm,
+                             BUILD_POSITION_PARAMS, GLOBAL const real *restrict vol, const int gx,
+                             const int gy, const int gz, GLOBAL const ulong *restrict keys,
+                             GLOBAL const int *restrict cell_start,
+                             GLOBAL const int *restrict cell_end, GLOBAL int *restrict nbr_count,
+                             GLOBAL int *restrict nbr_j BUILD_PAIR_OUT_PARAMS,
+                             GLOBAL real *restrict bmat,
+                             GLOBAL int *restrict overflow PAIR_W_PARAMS CONTACT_BUILD_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
+    (void)stride; /* the stored pair arrays */
     const real cutoff = prm[PRM_CUTOFF];
     const real cutoff2 = cutoff * cutoff;
+#if !SPH_PAIR_RECOMPUTE
     const vec v_i = vec_load(vel, n, i);
+#endif
     /* the particle's cell from its sorted key (cell_keys), not recomputed:
      * every particle is searched from the cell it is filed under */
     const int cell = key_cell(keys[i]);
@@ -202,13 +230,17 @@ KERNEL void build_neighbours(
             }
             for (int j = j_begin; j < j_end; ++j) {
                 if (j == i) continue;
-                /* the pair geometry at x + s v (s = geometry_shift, see the
-                 * comment at the top; the cells are those of x), written as
-                 * (x_i - x_j) + s (v_i - v_j) so that d_ji = -d_ij exactly,
-                 * however the compiler contracts it: the pair terms stay
-                 * antisymmetric and momentum exact */
+                    /* the pair geometry at x + s v (s = geometry_shift, see the
+                     * comment at the top; the cells are those of x), written as
+                     * (x_i - x_j) + s (v_i - v_j) so that d_ji = -d_ij exactly,
+                     * however the compiler contracts it: the pair terms stay
+                     * antisymmetric and momentum exact */
+#if SPH_PAIR_RECOMPUTE
+                const vec d = hvec_diff(pair_pos, n, i, j); /* as pair_geometry_recomputed */
+#else
                 const vec d = vec_axpy(hvec_diff(pos, n, i, j), geometry_shift,
                                        vec_sub(v_i, vec_load(vel, n, j)));
+#endif
                 const real r2 = vec_dot(d, d);
                 /* coincident particles have no direction: left out of the
                  * sums (the instability monitor reports such clustering) */
@@ -226,9 +258,11 @@ KERNEL void build_neighbours(
                 if (count + ncontact < cap) {
                     const int slot = NBR_AT(i, count);
                     nbr_j[slot] = j;
+#if !SPH_PAIR_RECOMPUTE
                     for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
                     pair_dwv[slot] = dwv;
                     pair_inv_r[slot] = R(1) / r;
+#endif
 #if SPH_HAS_TLSPH
                     if (PRESENT(pair_w)) pair_w[slot] = kernel_w(prm, r) * vol[j] / r2;
 #endif

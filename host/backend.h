@@ -23,11 +23,21 @@
 
 typedef enum { SPH_BACKEND_AUTO, SPH_BACKEND_CPU, SPH_BACKEND_OPENCL } sph_backend_kind;
 
+/* How the OpenCL acoustic passes get the frozen pair geometry
+ * (device/sph_pair_geometry.h): AUTO recomputes it on GPUs and stores it on
+ * CPU devices; the native backend always stores it. */
+typedef enum {
+    SPH_PAIR_GEOMETRY_AUTO,
+    SPH_PAIR_GEOMETRY_STORED,
+    SPH_PAIR_GEOMETRY_RECOMPUTED
+} sph_pair_geometry;
+
 typedef struct {
     sph_backend_kind kind;
     int device_index; /* OpenCL device (as listed by `sphsolid devices`); -1: choose */
     bool quiet;       /* no build-option/choice messages on stderr */
     bool profile;     /* time every phase (serialises the device queue) */
+    sph_pair_geometry pair_geometry;
 } sph_backend_request;
 
 /* Result of a configuration rebuild. */

@@ -46,14 +46,17 @@ bool sph_history_double(const sph_features *f) {
 }
 
 void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
-                                bool nbr_row_major, char *buf, size_t len) {
+                                bool nbr_row_major, bool pair_recompute, char *buf, size_t len) {
     snprintf(buf, len,
              "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_MIXED=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
-             "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_WG=%d -DSORT_WG=%d",
+             "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
+             "-DSPH_WG=%d "
+             "-DSORT_WG=%d",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
-             f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0, reduce_wg, sort_wg);
+             f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
+             pair_recompute ? 1 : 0, reduce_wg, sort_wg);
 }
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,

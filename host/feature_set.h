@@ -50,8 +50,11 @@ bool sph_history_double(const sph_features *f);
 
 /* OpenCL build options of the feature set plus the device-dependent layout
  * choices (work-group sizes, neighbour-array layout). */
+/* The OpenCL program's -D options: the scene's features and the device's
+ * layout choices (neighbour slots row- or column-major; pair geometry stored
+ * or recomputed, device/sph_pair_geometry.h). */
 void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
-                                bool nbr_row_major, char *buf, size_t len);
+                                bool nbr_row_major, bool pair_recompute, char *buf, size_t len);
 
 /* The scalar parameter block `prm` of the kernels (device/sph_prelude.h,
  * PRM_*), in double; backends convert to their precision. */

@@ -3,7 +3,7 @@
  *   sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]
  *                      [--precision double|single|mixed] [--out DIR] [--quiet] [--profile]
  *                      [--checkpoint-every T] [--checkpoint-wall S] [--progress-interval S]
- *                      [--plot]
+ *                      [--plot] [--pair-geometry auto|stored|recomputed]
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
  *   sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]
@@ -37,6 +37,7 @@ static void usage(FILE *f) {
         "[--profile]\n"
         "                          [--checkpoint-every T] [--checkpoint-wall S]\n"
         "                          [--progress-interval S] [--plot]\n"
+        "                          [--pair-geometry auto|stored|recomputed]\n"
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
         "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
         "       sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]\n"
@@ -57,6 +58,9 @@ static void usage(FILE *f) {
         "--restart DIR         continue the run in DIR from its checkpoint (in DIR, or --out)\n"
         "--progress-interval S seconds between progress lines when stderr is not a terminal\n"
         "--plot    write PNG plots into DIR/plots after the run (tools/plot_run.py)\n"
+        "--pair-geometry  OpenCL: the acoustic passes read the frozen pair geometry from\n"
+        "          per-pair arrays (stored) or recompute it (recomputed); auto (default):\n"
+        "          recomputed on GPUs, stored on CPU devices (docs/benchmarks.md)\n"
         "relax     relax the particles of the bodies with placement = \"relaxed\" ahead of a\n"
         "          run, save them to their relaxation.file and print the residuals;\n"
         "          --out FILE saves the one relaxed body to FILE, --force relaxes even\n"
@@ -107,8 +111,9 @@ static int cmd_run(int argc, char **argv) {
         const char *value = k + 1 < argc ? argv[k + 1] : NULL;
         if (strcmp(a, "--set") == 0 || strcmp(a, "--backend") == 0 || strcmp(a, "--device") == 0 ||
             strcmp(a, "--precision") == 0 || strcmp(a, "--out") == 0 ||
-            strcmp(a, "--restart") == 0 || strcmp(a, "--checkpoint-every") == 0 ||
-            strcmp(a, "--checkpoint-wall") == 0 || strcmp(a, "--progress-interval") == 0) {
+            strcmp(a, "--pair-geometry") == 0 || strcmp(a, "--restart") == 0 ||
+            strcmp(a, "--checkpoint-every") == 0 || strcmp(a, "--checkpoint-wall") == 0 ||
+            strcmp(a, "--progress-interval") == 0) {
             if (!value) {
                 free(overrides);
                 return input_error("%s needs a value", a);
@@ -141,6 +146,18 @@ static int cmd_run(int argc, char **argv) {
             if (!sph_precision_parse(value, &opt.precision)) {
                 free(overrides);
                 return input_error("--precision %s: expected double, single or mixed", value);
+            }
+        } else if (strcmp(a, "--pair-geometry") == 0) {
+            if (strcmp(value, "auto") == 0)
+                opt.backend.pair_geometry = SPH_PAIR_GEOMETRY_AUTO;
+            else if (strcmp(value, "stored") == 0)
+                opt.backend.pair_geometry = SPH_PAIR_GEOMETRY_STORED;
+            else if (strcmp(value, "recomputed") == 0)
+                opt.backend.pair_geometry = SPH_PAIR_GEOMETRY_RECOMPUTED;
+            else {
+                free(overrides);
+                return input_error("--pair-geometry %s: expected auto, stored or recomputed",
+                                   value);
             }
         } else if (strcmp(a, "--out") == 0) {
             out_dir = value;

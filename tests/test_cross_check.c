@@ -38,7 +38,8 @@ static double max_rel_diff(const double *a, const double *b, const int32_t *id_a
 }
 
 static void cross_check(test_counts *t, const char *case_name, const char *const *overrides,
-                        int noverrides, sph_precision precision, double tol) {
+                        int noverrides, sph_precision precision, sph_pair_geometry geometry,
+                        double tol) {
     sph_simulation sim[2];
     sph_error err = {0};
     double *pos[2] = {0}, *vel[2] = {0};
@@ -46,8 +47,8 @@ static void cross_check(test_counts *t, const char *case_name, const char *const
     const sph_backend_kind kinds[2] = {SPH_BACKEND_CPU, SPH_BACKEND_OPENCL};
     int ok = 1;
     for (int b = 0; b < 2; ++b) {
-        sph_status st = test_run_case(case_name, overrides, noverrides, kinds[b], precision, 200,
-                                      &sim[b], &err);
+        sph_status st = test_run_case_geometry(case_name, overrides, noverrides, kinds[b],
+                                               precision, geometry, 200, &sim[b], &err);
         if (!st) {
             const int n = sim[b].particles.n, dim = sim[b].scene.dim;
             pos[b] = malloc((size_t)n * dim * sizeof(double));
@@ -67,9 +68,13 @@ static void cross_check(test_counts *t, const char *case_name, const char *const
         const int n = sim[0].particles.n, dim = sim[0].scene.dim;
         const double dx = max_rel_diff(pos[0], pos[1], id[0], id[1], n, dim);
         const double dv = max_rel_diff(vel[0], vel[1], id[0], id[1], n, dim);
-        printf("%s %s: max relative difference after 200 steps: position %.3g, velocity %.3g "
-               "(tolerance %.1g)\n",
-               case_name, sph_precision_name(&sim[0].features), dx, dv, tol);
+        printf("%s%s%s %s, OpenCL pair geometry %s: max relative difference after 200 steps: "
+               "position %.3g, velocity %.3g (tolerance %.1g)\n",
+               case_name, noverrides ? " " : "", noverrides ? overrides[0] : "",
+               sph_precision_name(&sim[0].features),
+               strstr(sim[1].backend->build_options, "SPH_PAIR_RECOMPUTE=1") ? "recomputed"
+                                                                             : "stored",
+               dx, dv, tol);
         CHECK(t, dx <= tol, "%s positions differ by %.3g (> %.1g)", case_name, dx, tol);
         CHECK(t, dv <= tol, "%s velocities differ by %.3g (> %.1g)", case_name, dv, tol);
     }
@@ -83,15 +88,35 @@ static void cross_check(test_counts *t, const char *case_name, const char *const
 
 int main(void) {
     test_counts t = {0};
+    const sph_pair_geometry stored = SPH_PAIR_GEOMETRY_STORED;
+    const sph_pair_geometry recomputed = SPH_PAIR_GEOMETRY_RECOMPUTED;
     /* the plate: clamp, dual-criteria stepping, averaged rotation */
-    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_DOUBLE, 1e-10);
+    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_DOUBLE, stored, 1e-10);
     /* single arithmetic (single, mixed): the backends' sums differ in order */
-    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_SINGLE, 1e-5);
-    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_MIXED, 1e-5);
+    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_SINGLE, stored, 1e-5);
+    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_MIXED, stored, 1e-5);
     /* the spinning plate: single-criterion stepping (a rebuild every step) */
-    cross_check(&t, "spinning_plate_2d", NULL, 0, SPH_PRECISION_DOUBLE, 1e-10);
+    cross_check(&t, "spinning_plate_2d", NULL, 0, SPH_PRECISION_DOUBLE, stored, 1e-10);
     /* per-particle rotation */
     const char *pp[] = {"method.rotation=per-particle"};
-    cross_check(&t, "spinning_plate_2d", pp, 1, SPH_PRECISION_DOUBLE, 1e-10);
+    cross_check(&t, "spinning_plate_2d", pp, 1, SPH_PRECISION_DOUBLE, stored, 1e-10);
+
+    /* The pair geometry recomputed in every OpenCL pass (what GPUs run,
+     * device/sph_pair_geometry.h) against the native backend's stored
+     * arrays: the same configuration, its distances differenced from the
+     * shifted positions instead of shifted after differencing, i.e. the same
+     * geometry to round-off; every pass that reads pair geometry is covered:
+     * ENOG-A (pressure, velocity terms), GNOG-A and SPH-OAS (the third pass,
+     * penalty and artificial stress), contact between bodies, and a 3D
+     * plastic bar on a rigid wall. */
+    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
+    cross_check(&t, "oscillating_plate_2d", NULL, 0, SPH_PRECISION_MIXED, recomputed, 1e-5);
+    const char *gnog_a[] = {"method.formulation=gnog-a"};
+    cross_check(&t, "oscillating_plate_2d", gnog_a, 1, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
+    const char *oas[] = {"method.formulation=oas", "method.rotation=none"};
+    cross_check(&t, "oscillating_plate_2d", oas, 2, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
+    const char *rings[] = {"resolution.dp=0.002"};
+    cross_check(&t, "colliding_rings_2d", rings, 1, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
+    cross_check(&t, "taylor_bar_square", NULL, 0, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
     return test_summary("test_cross_check", &t);
 }

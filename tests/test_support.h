@@ -155,17 +155,19 @@ static inline sph_status test_backend(sph_backend_kind kind, const sph_features 
 }
 
 /* Run a shipped case with overrides on a backend; returns the status. */
-static inline sph_status test_run_case(const char *case_name, const char *const *overrides,
-                                       int noverrides, sph_backend_kind kind,
-                                       sph_precision precision, long max_steps, sph_simulation *sim,
-                                       sph_error *err) {
+/* ... with the OpenCL pair geometry chosen (device/sph_pair_geometry.h) */
+static inline sph_status test_run_case_geometry(const char *case_name, const char *const *overrides,
+                                                int noverrides, sph_backend_kind kind,
+                                                sph_precision precision, sph_pair_geometry geometry,
+                                                long max_steps, sph_simulation *sim,
+                                                sph_error *err) {
     char path[1024];
     test_case_path(case_name, path, sizeof path);
     const sph_run_options opt = {
         .scene_path = path,
         .overrides = overrides,
         .noverrides = noverrides,
-        .backend = {.kind = kind, .device_index = -1, .quiet = true},
+        .backend = {.kind = kind, .device_index = -1, .quiet = true, .pair_geometry = geometry},
         .precision = precision,
         .out_dir = NULL,
         .quiet = true,
@@ -174,6 +176,14 @@ static inline sph_status test_run_case(const char *case_name, const char *const 
     sph_status st = sph_simulation_open(sim, &opt, err);
     if (!st) st = sph_simulation_run(sim, err);
     return st;
+}
+
+static inline sph_status test_run_case(const char *case_name, const char *const *overrides,
+                                       int noverrides, sph_backend_kind kind,
+                                       sph_precision precision, long max_steps, sph_simulation *sim,
+                                       sph_error *err) {
+    return test_run_case_geometry(case_name, overrides, noverrides, kind, precision,
+                                  SPH_PAIR_GEOMETRY_AUTO, max_steps, sim, err);
 }
 
 #endif

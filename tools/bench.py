@@ -87,6 +87,7 @@ WRITE_ONLY = {
     "cell_keys": {"keys"}, "permute": {"dst"}, "cell_ranges": {"cell_start", "cell_end"},
     "build_neighbours": {"nbr_count", "nbr_j", "pair_e", "pair_dwv", "pair_inv_r", "pair_w",
                          "bmat", "overflow", "contact_count"},
+    "shifted_positions": {"pair_pos"},
     "acoustic_velocity_terms": {"acc_diss", "spin", "gradv", "art_stress", "penalty_scale",
                                 "dacc_shear"},
     "acoustic_shear_force": {"acc_stress", "dacc_shear"},
@@ -140,7 +141,8 @@ def kernel_signatures(device_dir=DEVICE_DIR):
 
 def mean_neighbour_count(run_dir, cutoff):
     """Mean number of neighbours (r < cutoff, self excluded) at the first snapshot, counted
-    with numpy (all particles up to 20000, else a sample of 4000); None without a snapshot."""
+    with numpy (all particles up to 20000, else a sample of 4000), each row against the slab
+    of particles within the cut-off in x (sorted once); None without a snapshot."""
     path = os.path.join(run_dir, "snapshots", "snapshot_000000.hdf")
     try:
         import h5py
@@ -151,11 +153,12 @@ def mean_neighbour_count(run_dir, cutoff):
         return None
     n = len(x)
     rows = np.arange(n) if n <= 20000 else np.random.default_rng(1).choice(n, 4000, False)
+    xs = x[np.argsort(x[:, 0], kind="stable")]
+    lo = np.searchsorted(xs[:, 0], x[rows, 0] - cutoff, side="left")
+    hi = np.searchsorted(xs[:, 0], x[rows, 0] + cutoff, side="right")
     total = 0
-    chunk = max(16, int(1e7 // n))  # rows per block: about 240 MB of temporaries
-    for s in range(0, len(rows), chunk):
-        idx = rows[s:s + chunk]
-        d2 = ((x[idx, None, :] - x[None, :, :]) ** 2).sum(axis=2)
+    for r, a, b in zip(rows, lo, hi):
+        d2 = ((xs[a:b] - x[r]) ** 2).sum(axis=1)
         total += int(((d2 < cutoff * cutoff) & (d2 > 0)).sum())
     return total / len(rows)
 
