@@ -75,7 +75,9 @@ typedef struct {
     cl_int n, npad, cap, gx, gy, gz, ngroups;
     int substep_ncomp; /* components of the substep reduction (reduction.cl) */
     size_t real_size;
-    size_t wg, sort_wg;
+    size_t wg;      /* reductions (SPH_WG) */
+    size_t item_wg; /* per-particle kernels */
+    size_t sort_wg;
     bool row_major;
     bool pair_recompute; /* device/sph_pair_geometry.h */
     long cells_allocated;
@@ -404,7 +406,7 @@ static sph_status permute_fields(sph_backend *be, ocl_impl *o, sph_error *err) {
                            : sph_field_is_real(type)  ? &o->k.permute_real
                            : type == FIELD_TYPE_INT32 ? &o->k.permute_int
                                                       : &o->k.permute_u8;
-        sph_status st = launch(o, k, (size_t)be->n, o->wg, args, 3, err);
+        sph_status st = launch(o, k, (size_t)be->n, o->item_wg, args, 3, err);
         if (st) return st;
         cl_mem t = o->field[f];
         o->field[f] = o->spare[f];
@@ -446,11 +448,11 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     st = write_reals(o, o->grid_geom, geom, 4, err);
     real_scalar shift_s;
     const sph_cl_arg shift_arg = real_arg(o, "geometry_shift", &shift_s, be->geometry_shift);
-    if (!st) st = launch(o, &o->k.cell_keys, (size_t)o->npad, o->wg, &shift_arg, 1, err);
+    if (!st) st = launch(o, &o->k.cell_keys, (size_t)o->npad, o->item_wg, &shift_arg, 1, err);
     if (!st) st = sort_keys(o, err);
     if (!st) st = permute_fields(be, o, err);
     if (!st && o->pair_recompute)
-        st = launch(o, &o->k.shifted_positions, (size_t)be->n, o->wg, &shift_arg, 1, err);
+        st = launch(o, &o->k.shifted_positions, (size_t)be->n, o->item_wg, &shift_arg, 1, err);
     if (st) return st;
     const cl_int zero = 0;
     st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_start, &zero, sizeof zero, 0,
@@ -460,13 +462,13 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_end, &zero, sizeof zero, 0,
                                           (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
                       "clearing cell ranges", err);
-    if (!st) st = launch(o, &o->k.cell_ranges, (size_t)be->n, o->wg, NULL, 0, err);
+    if (!st) st = launch(o, &o->k.cell_ranges, (size_t)be->n, o->item_wg, NULL, 0, err);
     while (!st) {
         cl_int needed = 0;
         st = cl_check(clEnqueueFillBuffer(o->queue, o->overflow, &zero, sizeof zero, 0,
                                           sizeof(cl_int), 0, NULL, NULL),
                       "clearing the overflow flag", err);
-        if (!st) st = launch(o, &o->k.build, (size_t)be->n, o->wg, &shift_arg, 1, err);
+        if (!st) st = launch(o, &o->k.build, (size_t)be->n, o->item_wg, &shift_arg, 1, err);
         if (!st)
             st = cl_check(clEnqueueReadBuffer(o->queue, o->overflow, CL_TRUE, 0, sizeof needed,
                                               &needed, 0, NULL, NULL),
@@ -482,9 +484,9 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
  * passes, then the substep reduction (max |v|^2). */
 static sph_status tl_substep(ocl_impl *o, size_t items, const sph_cl_arg *dt_arg,
                              double *max_speed2, sph_error *err) {
-    sph_status st = launch(o, &o->k.tl_deformation, items, o->wg, dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.tl_acceleration, items, o->wg, dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.tl_update, items, o->wg, dt_arg, 1, err);
+    sph_status st = launch(o, &o->k.tl_deformation, items, o->item_wg, dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.tl_acceleration, items, o->item_wg, dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.tl_update, items, o->item_wg, dt_arg, 1, err);
     if (!st)
         st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, dt_arg, 1, err);
     if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
@@ -499,11 +501,11 @@ static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sp
     const size_t items = (size_t)be->n;
     if (o->k.tl_deformation.kernel) return tl_substep(o, items, &dt_arg, max_speed2, err);
     sph_status st = SPH_OK;
-    if (o->k.contact.kernel) st = launch(o, &o->k.contact, items, o->wg, &dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.pressure, items, o->wg, &dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.velocity_terms, items, o->wg, &dt_arg, 1, err);
+    if (o->k.contact.kernel) st = launch(o, &o->k.contact, items, o->item_wg, &dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.pressure, items, o->item_wg, &dt_arg, 1, err);
+    if (!st) st = launch(o, &o->k.velocity_terms, items, o->item_wg, &dt_arg, 1, err);
     if (!st && o->k.shear_force.kernel)
-        st = launch(o, &o->k.shear_force, items, o->wg, &dt_arg, 1, err);
+        st = launch(o, &o->k.shear_force, items, o->item_wg, &dt_arg, 1, err);
     if (!st)
         st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, &dt_arg, 1, err);
     if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
@@ -766,7 +768,17 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     o->pair_recompute = f->formulation != SPH_FORMULATION_TLSPH &&
                         (req->pair_geometry == SPH_PAIR_GEOMETRY_RECOMPUTED ||
                          (req->pair_geometry == SPH_PAIR_GEOMETRY_AUTO && !o->row_major));
-    o->wg = pow2_floor(o->dev.max_work_group < 256 ? o->dev.max_work_group : 256);
+    /* Work-group sizes per device kind, measured.  GPUs: 256 for the
+     * reductions and the per-particle kernels.  CPU devices (pocl 3.1, 2
+     * cores): single items for the per-particle kernels, whose neighbour loops
+     * of uneven length cost more in pocl's work-group loops than they gain
+     * (the 3D plate's acoustic_velocity_terms 54 ms per call with groups of 1,
+     * 78 with 4, 121 with 256), and groups of 16 for the reductions (the 2D
+     * plate to 0.1 s: 3.6-3.9 s against 4.7-5.3 s with 256); together 1.7x
+     * faster in 3D and 1.4x in 2D (docs/benchmarks.md). */
+    const size_t reduce_wg = o->row_major ? 16 : 256;
+    o->wg = pow2_floor(o->dev.max_work_group < reduce_wg ? o->dev.max_work_group : reduce_wg);
+    o->item_wg = o->row_major ? 1 : o->wg;
     o->sort_wg = pow2_floor(o->dev.max_work_group < 1024 ? o->dev.max_work_group : 1024);
     o->n = n;
     o->npad = (cl_int)o->sort_wg;
