@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# One call's worth of GPU work on a machine prepared by tools/gpu_bundle.sh (carry .ocl and
+# build-gpu): the device and its bandwidth, every OpenCL test body on it, then the benchmarks
+# (README "GPU"; what the 2026-11-23 H100 session ran in three calls), each stage skipped when
+# the time budget is spent.  Logs and JSON go to OUTDIR (default $OUT, else /tmp/gpu-check).
+#   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests bench3d bench]
+set -u
+cd "$(dirname "$0")/.." || exit 1
+budget=${1:-560}
+shift || true
+stages=${*:-env tests bench3d bench}
+out=${OUT:-/tmp/gpu-check}
+mkdir -p "$out"
+start=$(date +%s)
+left() { echo $((budget - ($(date +%s) - start))); }
+want() { case " $stages " in *" $1 "*) return 0 ;; esac; return 1; }
+exec > >(tee -a "$out/gpu-check.log") 2>&1
+# shellcheck source=/dev/null
+source tools/gpu_env.sh
+bin=$PWD/build-gpu
+export SPHSOLID_BIN=$bin/sphsolid SPHSOLID_SOURCE_DIR=$PWD
+py=python3
+if want env; then
+  echo "== device"
+  nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>/dev/null
+  .ocl/bin/clinfo -l
+  "$bin/sphsolid" devices
+  "$bin/sphsolid" bandwidth --backend opencl --size-mb 1024
+fi
+if want tests; then
+  echo "== OpenCL test bodies ($(left) s left)"
+  for t in test_neighbours test_plate test_spinning_plate test_formulations test_contact \
+    test_tlsph; do
+    s=$(date +%s)
+    timeout 120 "$bin/tests/$t" opencl >"$out/$t.log" 2>&1
+    echo "$t: exit $?, $(($(date +%s) - s)) s; $(tail -1 "$out/$t.log")"
+  done
+  timeout 120 "$bin/tests/test_cross_check" >"$out/test_cross_check.log" 2>&1
+  echo "test_cross_check: exit $?; $(tail -1 "$out/test_cross_check.log")"
+  for t in test_precision test_walls test_monitor; do
+    timeout 120 $py "tests/$t.py" opencl >"$out/$t.log" 2>&1
+    echo "$t: exit $?; $(tail -1 "$out/$t.log")"
+  done
+fi
+if want bench3d; then
+  for p in mixed single double; do
+    [ "$(left)" -gt 240 ] || { echo "bench3d $p: skipped ($(left) s left)"; continue; }
+    timeout $(($(left) - 20)) $py tools/bench.py --json "$out/bench-plate3d-h9-$p.json" \
+      --backends opencl --precisions "$p" --plate-ratios --spinning-end 0 --plate3d-ratios 9 \
+      --single-run --label "3D plate H/dp = 9, timing from the profiled run" >/dev/null 2>&1
+    echo "bench3d $p: exit $?; $(grep -h '^| 3D plate (2,2) H/dp=9 | 0.1' "$out/bench-plate3d-h9-$p.md" 2>/dev/null)"
+  done
+fi
+if want bench; then
+  if [ "$(left)" -gt 180 ]; then
+    timeout $(($(left) - 10)) $py tools/bench.py --json "$out/bench-gpu.json" --backends opencl \
+      --precisions double --plate-ratios 10 20 30 --plate3d-ratios 3 5 >/dev/null 2>&1
+    echo "bench: exit $?"
+    grep -hE '^\| (plate|spinning|3D plate)' "$out/bench-gpu.md" 2>/dev/null | head -8
+  else
+    echo "bench: skipped ($(left) s left)"
+  fi
+fi
+echo "== done after $(($(date +%s) - start)) s; results in $out"
