@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """error_vs_runtime.py — accuracy against cost (issue 5): for each formulation, precision and
-backend, a resolution ladder of the 2D plate and of the 2D spinning plate; error against wall
-time, as CSV, JSON and a log-log PNG.
+backend, a resolution ladder of the 2D plate, the 2D spinning plate and the 3D plate; error
+against wall time, as CSV, JSON and a log-log PNG.
 
   plate     cases/oscillating_plate_2d at H/dp = 5, 8, 10, 15, 20, 30 (--ratios) to t = 0.35 s
             (the first period needs ~0.29 s): error of `first_period` against thin-plate
@@ -9,6 +9,10 @@ time, as CSV, JSON and a log-log PNG.
             finest run of the same formulation, precision and backend
   spinning  cases/spinning_plate_2d at dp = 0.1, 0.05, 0.025 (--dps) to t = 0.5 s: the
             maximum angular-momentum error max |L(t) - L(0)| / |L(0)|
+  plate3d   cases/oscillating_plate_3d, mode (2,2), at H/dp = 3 (--plate3d-ratios; 3 5 9 on a
+            GPU: 44 652, 204 020 and 1 179 396 particles) to t = 0.02 s: error of the first
+            period against thin-plate theory, 0.013305 s (000 eq. 36), and against the finest
+            run
 
 Wall time is plotted per simulated second (wall_time_s / end time), so runs to 0.35 s and the
 public reference code's measured run (2D plate H/dp = 10, GNOG-A, 18.9 s to t = 1 s on 2 cores,
@@ -38,10 +42,22 @@ import textwrap
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_core import (BIN, PLATE, REFERENCE_CODE_H10_SECONDS, ROOT, ROTATING,  # noqa: E402
                         thin_plate_period)
-from bench import SPINNING, full_environment, loadavg  # noqa: E402
+from bench import (PLATE_3D, PLATE_3D_THICKNESS, SPINNING, full_environment,  # noqa: E402
+                   loadavg)
 
 FORMULATIONS = ["enog-a", "gnog-a", "enog", "oas"]
 THEORY = thin_plate_period(0.3975)  # 0.25406 s, the plate's nu
+
+
+def plate3d_theory(m=2, n=2, length=0.4, width=0.4, h=PLATE_3D_THICKNESS, e=1.0e8, nu=0.3,
+                   rho=1000.0):
+    """000 eq. 36: T = (2/pi) [(m/L)^2 + (n/W)^2]^-1 sqrt(rho H / D), D = E H^3 / 12(1 - nu^2)."""
+    d = e * h ** 3 / (12 * (1 - nu * nu))
+    return 2 / math.pi / ((m / length) ** 2 + (n / width) ** 2) * math.sqrt(rho * h / d)
+
+
+THEORY_3D = plate3d_theory()  # 0.013305 s, cases/oscillating_plate_3d's (2,2) mode
+THEORIES = {"plate": THEORY, "plate3d": THEORY_3D}
 # The public reference code (SPHinXsys, GNOG-A, per-particle rotation), H/dp = 10,
 # v_f = 0.05, t = 1 s on an idle 2-core machine: zero crossings 0.1434, 0.2874, ... s
 # (reference notes §11); its first period by our definition (second zero crossing)
@@ -74,6 +90,12 @@ def plan(args):
                                  "scene": PLATE, "reference_run": True,
                                  "sets": ["resolution.ratio=10", "time.end=1"] +
                                  method_sets(form)})
+                for r in args.plate3d_ratios:
+                    runs.append({"case": "plate3d", "formulation": form, "precision": prec,
+                                 "backend": be, "resolution": r, "end_time": args.plate3d_end,
+                                 "scene": PLATE_3D,
+                                 "sets": [f"resolution.dp={PLATE_3D_THICKNESS / r:.15g}",
+                                          f"time.end={args.plate3d_end:g}"] + method_sets(form)})
                 for dp in args.dps:
                     runs.append({"case": "spinning", "formulation": form, "precision": prec,
                                  "backend": be, "resolution": dp, "end_time": args.spinning_end,
@@ -82,12 +104,14 @@ def plan(args):
                                           f"time.end={args.spinning_end:g}"] + method_sets(form)})
     for r in runs:
         name = (f"{r['case']}-{r['formulation']}-{r['precision']}-{r['backend']}-"
-                f"{'r' if r['case'] == 'plate' else 'dp'}{r['resolution']:g}-t{r['end_time']:g}")
+                f"{'dp' if r['case'] == 'spinning' else 'r'}{r['resolution']:g}-t{r['end_time']:g}")
         r["dir"] = os.path.join(args.work, re.sub(r"[^A-Za-z0-9.=-]+", "_", name))
 
-    # cheap first: particle count grows as ratio^2 (plate) and dp^-2 (spinning); OpenCL after
+    # cheap first: particle count grows as ratio^2 (plate), dp^-2 (spinning) and ratio^3
+    # (3D plate; the acoustic step count as the ratio too); OpenCL after
     def cost(r):
-        n = r["resolution"] ** 2 * 16 if r["case"] == "plate" else 1.0 / r["resolution"] ** 2
+        n = {"plate": r["resolution"] ** 2 * 16, "plate3d": r["resolution"] ** 4 * 1.6e5,
+             "spinning": 1.0 / r["resolution"] ** 2}[r["case"]]
         return (n * r["end_time"] * (4 if r["backend"] == "opencl" else 1), r["dir"])
     return sorted(runs, key=cost)
 
@@ -152,13 +176,14 @@ def shown_path(path):
 
 def add_errors(rows):
     for row in rows:
-        if row["case"] == "plate" and row["first_period"] is not None:
-            row["period_error_theory"] = abs(row["first_period"] - THEORY) / THEORY
+        theory = THEORIES.get(row["case"])
+        if theory and row["first_period"] is not None:
+            row["period_error_theory"] = abs(row["first_period"] - theory) / theory
     groups = {}
     for row in rows:
-        if row["case"] == "plate" and not row["reference_run"] and row["first_period"]:
-            groups.setdefault((row["formulation"], row["precision"], row["backend"]),
-                              []).append(row)
+        if row["case"] in THEORIES and not row["reference_run"] and row["first_period"]:
+            groups.setdefault((row["case"], row["formulation"], row["precision"],
+                               row["backend"]), []).append(row)
     for members in groups.values():
         finest = max(members, key=lambda x: x["resolution"])
         for row in members:
@@ -167,7 +192,8 @@ def add_errors(rows):
                                           finest["first_period"])
     for row in rows:  # the 1-s runs: same first period as the ladder's run at that H/dp
         if row["reference_run"]:
-            for m in groups.get((row["formulation"], row["precision"], row["backend"]), []):
+            for m in groups.get((row["case"], row["formulation"], row["precision"],
+                                 row["backend"]), []):
                 if m["resolution"] == row["resolution"]:
                     row["period_error_finest"] = m["period_error_finest"]
 
@@ -186,12 +212,22 @@ def plot(rows, png, title):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter
-    fig, axes = plt.subplots(1, 3, figsize=(17, 7))
     panels = [("plate", "period_error_theory",
                f"plate: first-period error vs thin-plate theory ({THEORY:.5f} s)"),
               ("plate", "period_error_finest", "plate: first-period error vs the finest run"),
               ("spinning", "max_angular_momentum_error",
                "spinning plate: max angular-momentum error")]
+    if any(row["case"] == "plate3d" and row["period_error_theory"] for row in rows):
+        panels.append(("plate3d", "period_error_theory",
+                       f"3D plate (2,2): first-period error vs thin-plate theory "
+                       f"({THEORY_3D:.6f} s)"))
+    # only the panels with data (a ladder may leave out a case)
+    panels = [p for p in panels
+              if any(row["case"] == p[0] and row[p[1]] and not row["reference_run"]
+                     for row in rows)] or panels[:1]
+    fig, axes = plt.subplots(1, len(panels), figsize=(max(5.7 * len(panels), 11), 7),
+                             squeeze=False)
+    axes = axes[0]
     for ax, (case, key, heading) in zip(axes, panels):
         series = {}
         for row in rows:
@@ -271,6 +307,10 @@ def main():
                     help="spinning plate dp ladder (none: skip it)")
     ap.add_argument("--spinning-end", type=float, default=0.5,
                     help="spinning plate end time (0.5 s)")
+    ap.add_argument("--plate3d-ratios", type=float, nargs="*", default=[3],
+                    help="3D plate H/dp ladder (default 3; a GPU: 3 5 9; none: skip it)")
+    ap.add_argument("--plate3d-end", type=float, default=0.02,
+                    help="3D plate end time (0.02 s: the first period is 0.0141-0.0157 s)")
     ap.add_argument("--reference-run", action="store_true",
                     help="also run the plate at H/dp = 10 to t = 1 s (native backend)")
     ap.add_argument("--work", default=os.path.join(ROOT, "runs", "error-vs-runtime"),
@@ -324,8 +364,8 @@ def main():
     plot(rows, args.png, title)
 
     for row in rows:
-        err = (row["period_error_theory"] if row["case"] == "plate"
-               else row["max_angular_momentum_error"])
+        err = (row["max_angular_momentum_error"] if row["case"] == "spinning"
+               else row["period_error_theory"])
         fine = row["period_error_finest"]
         err_s = "" if err is None else f"{100 * err:.2f} %"
         fine_s = "" if fine is None else f" (vs finest {100 * fine:.2f} %)"

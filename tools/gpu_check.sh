@@ -3,7 +3,8 @@
 # build-gpu): the device and its bandwidth, every OpenCL test body on it, then the benchmarks
 # (README "GPU"; what the 2026-11-23 H100 session ran in three calls), each stage skipped when
 # the time budget is spent.  Logs and JSON go to OUTDIR (default $OUT, else /tmp/gpu-check).
-#   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests bench3d bench]
+#   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests bench3d bench evr3d]
+# (evr3d, the 3D plate's error-against-run-time ladder at H/dp = 3, 5, 9, is not in the default)
 set -u
 cd "$(dirname "$0")/.." || exit 1
 budget=${1:-560}
@@ -59,6 +60,16 @@ if want bench; then
     grep -hE '^\| (plate|spinning|3D plate)' "$out/bench-gpu.md" 2>/dev/null | head -8
   else
     echo "bench: skipped ($(left) s left)"
+  fi
+fi
+if want evr3d; then
+  if [ "$(left)" -gt 200 ]; then
+    timeout $(($(left) - 10)) $py tools/error_vs_runtime.py --backends opencl \
+      --formulations enog-a gnog-a --precisions double mixed single --ratios --dps \
+      --plate3d-ratios 3 5 9 --work /tmp/evr3d --csv "$out/error-vs-runtime-plate3d.csv" \
+      --png "$out/error-vs-runtime-plate3d.png" --label "3D plate ladder" 2>&1 | tail -20
+  else
+    echo "evr3d: skipped ($(left) s left)"
   fi
 fi
 echo "== done after $(($(date +%s) - start)) s; results in $out"
