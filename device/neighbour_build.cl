@@ -230,17 +230,19 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
             }
             for (int j = j_begin; j < j_end; ++j) {
                 if (j == i) continue;
-                    /* the pair geometry at x + s v (s = geometry_shift, see the
-                     * comment at the top; the cells are those of x), written as
-                     * (x_i - x_j) + s (v_i - v_j) so that d_ji = -d_ij exactly,
-                     * however the compiler contracts it: the pair terms stay
-                     * antisymmetric and momentum exact */
 #if SPH_PAIR_RECOMPUTE
-                const vec d = hvec_diff(pair_pos, n, i, j); /* as pair_geometry_recomputed */
+                const vec d = hvec_diff(pair_pos, n, i, j);
 #else
                 const vec d = vec_axpy(hvec_diff(pos, n, i, j), geometry_shift,
                                        vec_sub(v_i, vec_load(vel, n, j)));
 #endif
+                /* d: the pair geometry at x + s v (s = geometry_shift, see the
+                 * comment at the top; the cells are those of x) such that
+                 * d_ji = -d_ij exactly, however the compiler contracts it: the
+                 * pair terms stay antisymmetric and momentum exact.  Recomputed
+                 * geometry: the difference of the stored shifted positions, as
+                 * pair_geometry_recomputed takes it; stored: written as
+                 * (x_i - x_j) + s (v_i - v_j) */
                 const real r2 = vec_dot(d, d);
                 /* coincident particles have no direction: left out of the
                  * sums (the instability monitor reports such clustering) */
