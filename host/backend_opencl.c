@@ -125,7 +125,7 @@ static sph_status check_device_memory(const sph_backend *be, const ocl_impl *o, 
     const double n = (double)be->n, real = (double)o->real_size, slots = n * (double)cap;
     const bool tlsph = be->features.formulation == SPH_FORMULATION_TLSPH;
     const double stored = o->pair_recompute ? 0.0 : 1.0;
-    const double hreal = sph_history_double(&be->features) ? sizeof(double) : sizeof(float);
+    const double hreal = (double)sph_field_element_size(FIELD_TYPE_HREAL, &be->features);
     const struct {
         const char *name;
         double bytes;
@@ -831,8 +831,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     if (!st) st = make_buffer(be, o, "overflow", sizeof(cl_int), &o->overflow, err);
     if (!st && o->pair_recompute)
         st = make_buffer(be, o, "pair_pos",
-                         (size_t)n * (size_t)f->dim *
-                             (sph_history_double(f) ? sizeof(double) : sizeof(float)),
+                         (size_t)n * (size_t)f->dim * sph_field_element_size(FIELD_TYPE_HREAL, f),
                          &o->pair_pos, err);
     if (!st) st = make_buffer(be, o, "result", RESULT_LEN * o->real_size, &o->result, err);
     if (!st)

@@ -37,12 +37,6 @@ static double max_rel_diff(const double *a, const double *b, const int32_t *id_a
     return scale > 0.0 ? diff / scale : diff;
 }
 
-static bool has_buffer(const sph_backend *be, const char *name) {
-    for (int k = 0; k < be->nbuffers; ++k)
-        if (strcmp(be->buffers[k].name, name) == 0) return true;
-    return false;
-}
-
 /* What the OpenCL run compiled in and allocated for its pair geometry: with
  * recomputation the shifted positions and their kernel, and none of the
  * per-slot arrays (kernel arguments or buffers); stored, the reverse. */
@@ -51,14 +45,15 @@ static void check_geometry_resources(test_counts *t, const char *case_name, cons
     const bool recomputed = geometry == SPH_PAIR_GEOMETRY_RECOMPUTED;
     CHECK(t, (strstr(be->build_options, "-DSPH_PAIR_RECOMPUTE=1") != NULL) == recomputed,
           "%s: build options %s", case_name, be->build_options);
-    CHECK(t, has_buffer(be, "pair_pos") == recomputed, "%s: pair_pos buffer", case_name);
+    CHECK(t, test_has_buffer(be, "pair_pos") == recomputed, "%s: pair_pos buffer", case_name);
     CHECK(t, (strstr(be->program_kernels, "shifted_positions(") != NULL) == recomputed,
           "%s: shifted_positions kernel", case_name);
     const char *stored[] = {"pair_e", "pair_dwv", "pair_inv_r"};
     for (int k = 0; k < 3; ++k) {
         char arg[32];
         snprintf(arg, sizeof arg, " %s", stored[k]);
-        CHECK(t, has_buffer(be, stored[k]) == !recomputed, "%s: %s buffer", case_name, stored[k]);
+        CHECK(t, test_has_buffer(be, stored[k]) == !recomputed, "%s: %s buffer", case_name,
+              stored[k]);
         CHECK(t, (strstr(be->program_kernels, arg) != NULL) == !recomputed,
               "%s: %s kernel argument", case_name, stored[k]);
     }

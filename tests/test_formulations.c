@@ -25,12 +25,6 @@
 #include <math.h>
 #include <string.h>
 
-static bool has_buffer(const sph_backend *be, const char *name) {
-    for (int k = 0; k < be->nbuffers; ++k)
-        if (strcmp(be->buffers[k].name, name) == 0) return true;
-    return false;
-}
-
 static double max_zigzag(const sph_timeseries *ts) {
     double z = 0;
     for (int k = 0; k < ts->count; ++k) z = fmax(z, ts->diag[k].zigzag);
@@ -142,7 +136,7 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
             for (size_t k = 0; k < sizeof optional / sizeof optional[0]; ++k) {
                 /* art_stress belongs to OAS only */
                 const bool expect = p == 1 && strcmp(optional[k], "art_stress") != 0;
-                CHECK(t, has_buffer(be, optional[k]) == expect, "%s: buffer %s %s",
+                CHECK(t, test_has_buffer(be, optional[k]) == expect, "%s: buffer %s %s",
                       p ? "GNOG-A plastic" : "ENOG-A elastic", optional[k],
                       expect ? "missing" : "allocated");
                 if (kind == SPH_BACKEND_OPENCL) {
@@ -179,8 +173,8 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
         if (st == SPH_OK) {
             const sph_backend *be = sim.backend;
             const char *what = c ? "two bodies" : "one body";
-            CHECK(t, has_buffer(be, "contact_count") == (c == 1), "%s: buffer contact_count %s",
-                  what, c ? "missing" : "allocated");
+            CHECK(t, test_has_buffer(be, "contact_count") == (c == 1),
+                  "%s: buffer contact_count %s", what, c ? "missing" : "allocated");
             if (kind == SPH_BACKEND_OPENCL) {
                 CHECK(t, (strstr(be->program_kernels, "acoustic_contact(") != NULL) == (c == 1),
                       "%s: contact pass %s", what, c ? "missing" : "compiled in");

@@ -16,6 +16,13 @@
 #include <unistd.h>
 
 /* argv[1]: "cpu" or "opencl" (OpenCL takes the first device: pocl in CI). */
+/* whether the backend allocated a buffer of this name (summary.json's memory records) */
+static inline bool test_has_buffer(const sph_backend *be, const char *name) {
+    for (int k = 0; k < be->nbuffers; ++k)
+        if (strcmp(be->buffers[k].name, name) == 0) return true;
+    return false;
+}
+
 static inline sph_backend_kind test_backend_kind(int argc, char **argv) {
     if (argc > 1 && strcmp(argv[1], "opencl") == 0) return SPH_BACKEND_OPENCL;
     return SPH_BACKEND_CPU;

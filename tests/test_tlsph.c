@@ -353,12 +353,6 @@ static plate_result run_plate(test_counts *t, sph_backend_kind kind, const char 
 #define SWITCH_HARDENING 1e6
 #define SWITCH_STRAIN    0.1
 
-static bool has_buffer(const sph_backend *be, const char *name) {
-    for (int k = 0; k < be->nbuffers; ++k)
-        if (strcmp(be->buffers[k].name, name) == 0) return true;
-    return false;
-}
-
 /* One substep at rest of the patch displaced by the checkerboard
  * u_i = u0 (-1)^(ix + iy) e_y, u0 = 0.01 dp; with a plastic material
  * (`plastic` != NULL) particles whose id is a multiple of `every` start with
@@ -393,8 +387,8 @@ static sph_status switch_patch(sph_backend_kind kind, const double *plastic, dou
     }
     if (!st) {
         const bool want = plastic != NULL;
-        *compiled =
-            has_buffer(be, "plastic_strain") == want && has_buffer(be, "plastic_cinv") == want;
+        *compiled = test_has_buffer(be, "plastic_strain") == want &&
+                    test_has_buffer(be, "plastic_cinv") == want;
         if (kind == SPH_BACKEND_OPENCL)
             *compiled = *compiled &&
                         (strstr(be->program_kernels, " plastic_cinv") != NULL) == want &&
@@ -596,8 +590,8 @@ static void plastic_plate(test_counts *t, sph_backend_kind kind) {
     if (!st) {
         const sph_backend *be = sim.backend;
         CHECK(t,
-              sim.features.plastic && has_buffer(be, "plastic_strain") &&
-                  has_buffer(be, "plastic_cinv"),
+              sim.features.plastic && test_has_buffer(be, "plastic_strain") &&
+                  test_has_buffer(be, "plastic_cinv"),
               "plastic TLSPH: feature set and buffers (plastic %d)", (int)sim.features.plastic);
         if (kind == SPH_BACKEND_OPENCL)
             CHECK(t,
@@ -633,7 +627,8 @@ static void plastic_plate(test_counts *t, sph_backend_kind kind) {
           err2.msg);
     if (!st && !st2) {
         CHECK(t,
-              !has_buffer(el.backend, "plastic_cinv") && !has_buffer(el.backend, "plastic_strain"),
+              !test_has_buffer(el.backend, "plastic_cinv") &&
+                  !test_has_buffer(el.backend, "plastic_strain"),
               "elastic TLSPH allocates no plastic buffer");
         const plastic_state_summary ps = plastic_state(&hi, &err);
         const sph_timeseries *a = &el.series, *b = &hi.series;

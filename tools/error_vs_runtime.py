@@ -74,34 +74,26 @@ def method_sets(form):
 
 def plan(args):
     """Every requested run: (key fields, scene, --set list, run directory)."""
+    # case, scene, ladder, end time, the --set that gives a rung its resolution
+    ladders = [("plate", PLATE, args.ratios, args.plate_end, lambda r: f"resolution.ratio={r:g}"),
+               ("plate3d", PLATE_3D, args.plate3d_ratios, args.plate3d_end,
+                lambda r: f"resolution.dp={PLATE_3D_THICKNESS / r:.15g}"),
+               ("spinning", SPINNING, args.dps, args.spinning_end,
+                lambda dp: f"resolution.dp={dp:g}")]
     runs = []
     for form in args.formulations:
         for prec in args.precisions:
             for be in args.backends:
-                for r in args.ratios:
-                    runs.append({"case": "plate", "formulation": form, "precision": prec,
-                                 "backend": be, "resolution": r, "end_time": args.plate_end,
-                                 "scene": PLATE,
-                                 "sets": [f"resolution.ratio={r:g}",
-                                          f"time.end={args.plate_end:g}"] + method_sets(form)})
-                if args.reference_run and be == "cpu":
-                    runs.append({"case": "plate", "formulation": form, "precision": prec,
-                                 "backend": be, "resolution": 10.0, "end_time": 1.0,
-                                 "scene": PLATE, "reference_run": True,
-                                 "sets": ["resolution.ratio=10", "time.end=1"] +
-                                 method_sets(form)})
-                for r in args.plate3d_ratios:
-                    runs.append({"case": "plate3d", "formulation": form, "precision": prec,
-                                 "backend": be, "resolution": r, "end_time": args.plate3d_end,
-                                 "scene": PLATE_3D,
-                                 "sets": [f"resolution.dp={PLATE_3D_THICKNESS / r:.15g}",
-                                          f"time.end={args.plate3d_end:g}"] + method_sets(form)})
-                for dp in args.dps:
-                    runs.append({"case": "spinning", "formulation": form, "precision": prec,
-                                 "backend": be, "resolution": dp, "end_time": args.spinning_end,
-                                 "scene": SPINNING,
-                                 "sets": [f"resolution.dp={dp:g}",
-                                          f"time.end={args.spinning_end:g}"] + method_sets(form)})
+                def run(case, scene, resolution, end, resolution_set, reference_run=False):
+                    return {"case": case, "formulation": form, "precision": prec, "backend": be,
+                            "resolution": resolution, "end_time": end, "scene": scene,
+                            "reference_run": reference_run,
+                            "sets": [resolution_set(resolution), f"time.end={end:g}"] +
+                            method_sets(form)}
+                for case, scene, ladder, end, resolution_set in ladders:
+                    runs += [run(case, scene, x, end, resolution_set) for x in ladder]
+                    if case == "plate" and args.reference_run and be == "cpu":
+                        runs.append(run(case, scene, 10.0, 1.0, resolution_set, True))
     for r in runs:
         name = (f"{r['case']}-{r['formulation']}-{r['precision']}-{r['backend']}-"
                 f"{'dp' if r['case'] == 'spinning' else 'r'}{r['resolution']:g}-t{r['end_time']:g}")
