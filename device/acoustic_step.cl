@@ -20,6 +20,7 @@
  *
  *  acoustic_velocity_terms (per particle i), all from the new velocities:
  *    continuity drho/dt = rho sum u_ij dW V_j        (003 eq. 15),
+ *      plus the rigid walls' mirror images (sph_wall.h),
  *    rho^{n+1} = rho^{n+1/2} + dt/2 drho^{n+1}       (000 eq. 29),
  *    Riemann dissipation acceleration for the next update (sph_riemann.h),
  *    velocity gradient with the kernel-gradient correction (003 eq. 20),
@@ -81,6 +82,11 @@
 #    define ART_OUT_PARAMS , GLOBAL real *restrict art_stress
 #else
 #    define ART_OUT_PARAMS
+#endif
+#if SPH_HAS_WALLS
+#    define WALL_POS_PARAMS , GLOBAL const hreal *restrict pos
+#else
+#    define WALL_POS_PARAMS
 #endif
 #if SPH_HAS_PLASTICITY
 #    define PLASTIC_OUT_PARAMS                                                                     \
@@ -224,7 +230,7 @@ KERNEL void acoustic_velocity_terms(
     GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat, GLOBAL hreal *restrict rho,
     GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss, GLOBAL hreal *restrict tau,
     GLOBAL hreal *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS ART_OUT_PARAMS
-        PLASTIC_OUT_PARAMS) {
+        PLASTIC_OUT_PARAMS WALL_POS_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
@@ -255,7 +261,17 @@ KERNEL void acoustic_velocity_terms(
 
     /* continuity and the second density half-step */
     const hreal rho_half = rho[i] + half_dt * drho[i];
-    const real drho_new = (real)rho_half * divergence;
+    real drho_new = (real)rho_half * divergence;
+#if SPH_HAS_WALLS
+    /* the rigid walls' mirror images at the new position (sph_wall.h) */
+    if (prm[PRM_WALL_COUNT] > R(0)) {
+        const real wall_rate = (real)rho_half * wall_divergence(prm, hvec_load(pos, n, i), v_i,
+                                                                eos_pressure(prm, rho_half));
+        /* a particle leaving the wall gives back its compression and no
+         * more in one step: the free surface it becomes has p = 0 */
+        drho_new += fmax(wall_rate, fmin(R(0), (prm[PRM_RHO0] - (real)rho_half) / dt));
+    }
+#endif
     drho[i] = drho_new;
     rho[i] = rho_half + half_dt * drho_new;
     vec_store(acc_diss, n, i, vec_scale(dissipation, z * vol[i] / mass[i]));

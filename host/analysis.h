@@ -40,7 +40,11 @@ typedef struct {
 /* Period from samples y(t) (displacement from the start value). */
 double sph_first_period(const double *t, const double *y, int count);
 
+/* initial_momentum_scale: sum m |v|; angular_momentum_scale: sum m |x - x_c| |v|.
+ * The angular-momentum error is relative to |L(0)|, and undefined (NaN) where
+ * |L(0)| is round-off against the angular scale (a body without spin). */
 void sph_metrics_compute(const sph_timeseries *ts, int period_observer, int period_axis,
-                         double initial_momentum_scale, sph_metrics *m);
+                         double initial_momentum_scale, double angular_momentum_scale,
+                         sph_metrics *m);
 
 #endif

@@ -187,7 +187,8 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                     F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_ACC_DISS),
                     F_HREAL(b, FIELD_TAU), F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
                     F_REAL(b, FIELD_SPIN), F_REAL(b, FIELD_GRADV), F_REAL(b, FIELD_ART_STRESS),
-                    F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE));
+                    F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE),
+                    F_HREAL(b, FIELD_POS));
             real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
             reduce_identity(acc, 1, ncomp);
             for (int i = g * SPH_WG; i < end; ++i) {

