@@ -103,6 +103,15 @@ def nearest(out, axis):
     return closest
 
 
+def plastic_work(out, mass, sigma_y, kappa=0.0):
+    """The J2 plastic work sum V (sigma_Y eps_p + kappa eps_p^2 / 2) of the last snapshot,
+    V = m / rho for particles of equal mass m."""
+    with h5py.File(snapshot_paths(out)[-1], "r") as f:
+        pd = f["VTKHDF/PointData"]
+        eps, rho = pd["plastic_strain"][:], pd["density"][:]
+    return float(np.sum(mass / rho * (sigma_y * eps + 0.5 * kappa * eps ** 2)))
+
+
 try:
     for dim, bar in BARS.items():
         path = os.path.join(tmp, "bar%d.cfg" % dim)
@@ -179,10 +188,7 @@ try:
         closest = nearest(out, 2)
         check(closest > 0.25 * dp, f"Taylor bar: nearest particle {closest / dp:.3f} dp above "
               "the wall")
-        with h5py.File(snapshot_paths(out)[-1], "r") as f:
-            pd = f["VTKHDF/PointData"]
-            eps, rho = pd["plastic_strain"][:], pd["density"][:]
-        work = float(np.sum(rho0 * dp ** 3 / rho * (sigma_y * eps + 0.5 * kappa * eps ** 2)))
+        work = plastic_work(out, rho0 * dp ** 3, sigma_y, kappa)
         check(0.5 * ke0 <= work <= ke0, f"Taylor bar: plastic work {work:.4g} J = "
               f"{work / ke0:.3f} KE0, in [0.5, 1]")
         spread = ts["s_x"][-1] - ts["s_x"][0]
@@ -222,10 +228,7 @@ try:
         closest = nearest(out, 2)
         check(closest > 0.25 * dp, f"round Taylor bar: nearest particle {closest / dp:.3f} dp "
               "above the wall")
-        with h5py.File(snapshot_paths(out)[-1], "r") as f:
-            pd = f["VTKHDF/PointData"]
-            eps, rho = pd["plastic_strain"][:], pd["density"][:]
-        work = float(np.sum(rho0 * dp ** 3 / rho * sigma_y * eps))
+        work = plastic_work(out, rho0 * dp ** 3, sigma_y)
         check(0.5 * ke[0] <= work <= ke[0], f"round Taylor bar: plastic work {work:.4g} J = "
               f"{work / ke[0]:.3f} KE0, in [0.5, 1]")
         # the public reference code's run (R/dp = 12, relaxed particles, its observer one
