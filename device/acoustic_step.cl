@@ -285,7 +285,13 @@ KERNEL void acoustic_velocity_terms(
     real ratio;
 #if SPH_HAS_PLASTICITY
     const mat tau_new = shear_stress_advance(tau, n, i, grad_v, prm, dt, plastic_strain, &ratio);
+    /* only GNOG(-A) scale their penalty by the return ratio: OG and OAS have
+     * no such buffer (an OpenCL program's PRESENT is 1) */
+#    if SPH_HAS_PENALTY
     if (PRESENT(penalty_scale)) penalty_scale[i] = ratio;
+#    else
+    (void)penalty_scale;
+#    endif
 #else
     const mat tau_new = shear_stress_advance(tau, n, i, grad_v, prm, dt, 0, &ratio);
     (void)ratio;

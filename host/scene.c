@@ -869,8 +869,8 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
         if (strlen(m->name) >= SPH_NAME_LEN)
             return fail_at(L, m, NULL, "names are limited to %d characters", SPH_NAME_LEN - 1);
         if ((st = check_keys(L, m,
-                             KEYS("density", "youngs_modulus", "poisson_ratio", "yield_stress",
-                                  "hardening_modulus"))) ||
+                             KEYS("density", "youngs_modulus", "poisson_ratio", "sound_speed",
+                                  "yield_stress", "hardening_modulus"))) ||
             (st = get_float(L, m, "density", true, 0, 0, true, INFINITY, false, &mat->density)) ||
             (st = get_float(L, m, "youngs_modulus", true, 0, 0, true, INFINITY, false,
                             &mat->youngs_modulus)) ||
@@ -892,6 +892,15 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
         mat->shear_modulus = E / (2.0 * (1.0 + nu));
         /* 000 eq. 5: c0 = sqrt(K / rho0) */
         mat->sound_speed = sqrt(mat->bulk_modulus / mat->density);
+        /* A hydrocode material (003 §5.2.3 after Mehra & Chaturvedi 2006)
+         * gives its bulk sound speed beside the shear response: then the
+         * equation of state takes K = rho0 c0^2 and E, nu set G alone. */
+        if (config_setting_get_member(m, "sound_speed")) {
+            if ((st = get_float(L, m, "sound_speed", false, 0.0, 0, true, INFINITY, false,
+                                &mat->sound_speed)))
+                return st;
+            mat->bulk_modulus = mat->density * mat->sound_speed * mat->sound_speed;
+        }
         /* extreme but finite inputs can overflow (or underflow) the derived
          * constants the solver divides by */
         if (!(isfinite(mat->bulk_modulus) && isfinite(mat->shear_modulus) &&

@@ -136,6 +136,27 @@ static void test_spinning_plate(test_counts *c) {
     sph_scene_free(&s);
 }
 
+/* A material with its own sound speed (003 §5.2.3): K = rho0 c0^2, G from E, nu. */
+static void test_sound_speed(test_counts *c) {
+    char path[1024];
+    test_repo_path("cases/high_velocity_impact/scene.cfg", path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "load %s: %s", path, err.msg);
+    if (st != SPH_OK) return;
+    const sph_material *m = &s.materials[0];
+    CHECK(c, m->sound_speed == 5328.0, "c0 %.10g as given", m->sound_speed);
+    CHECK(c, near_rel(m->bulk_modulus, 8930.0 * 5328.0 * 5328.0, 1e-14), "K %.10g",
+          m->bulk_modulus);
+    CHECK(c, near_rel(m->shear_modulus, 7.417e10 / (2.0 * 1.344), 1e-14), "G %.10g",
+          m->shear_modulus);
+    CHECK(c, m->plastic && m->yield_stress == 3.0e8 && m->hardening_modulus == 0.0,
+          "perfectly plastic");
+    CHECK(c, s.nbodies == 2 && s.bodies[0].velocity.vector[0] == 3100.0, "projectile at 3100");
+    sph_scene_free(&s);
+}
+
 static void test_overrides(test_counts *c) {
     char path[1024];
     test_repo_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
@@ -276,6 +297,8 @@ static const bad_row BAD[] = {
      "%F:7: materials.steel.poisson_ratio: must be in [0, 0.5), got 0.5"},
     {"nu < 0", "poisson_ratio = 0.3", "poisson_ratio = -0.1", NULL,
      "%F:7: materials.steel.poisson_ratio: must be in [0, 0.5), got -0.1"},
+    {"sound speed 0", "poisson_ratio = 0.3", "poisson_ratio = 0.3; sound_speed = 0.0", NULL,
+     "%F:7: materials.steel.sound_speed: must be > 0, got 0"},
     {"density = 0", "density = 7800.0", "density = 0", NULL,
      "%F:7: materials.steel.density: must be > 0, got 0"},
     {"dp = 0", "dp = 0.1", "dp = 0.0", NULL, "%F:3: resolution.dp: must be > 0, got 0"},
@@ -730,6 +753,7 @@ int main(void) {
     if (test_scene_dir_open(&tmp, "test_scene") != 0) return 2;
     test_oscillating_plate(&c);
     test_spinning_plate(&c);
+    test_sound_speed(&c);
     test_overrides(&c);
     test_bad_inputs(&c);
     test_features(&c);

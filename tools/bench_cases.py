@@ -25,6 +25,12 @@ Runs, on the native backend by default (--backend opencl for a device):
            SPH-ENOG-A, to 0.03 s: 000 §6.8 shows it smooth (Fig. 30, no number); reported:
            the zigzag indicator's maximum, the closest pair, the plate centre's lowest point,
            the largest KE/KE0 after the start, the ball's restitution;
+  impact   cases/high_velocity_impact at dp = 4e-4, 2e-4 (003's) and 1e-4 (SPH-GNOG-A, 3100 m/s):
+           003 shows the shapes at 8 us only (Fig. 23); reported: the projectile's
+           centre-of-mass speed at 8 us beside the plug's momentum balance (0.797 v0), the
+           hole's half-width, the debris front, the kinetic energy left, the plastic work, the
+           closest pair, the largest rise of the total energy, and the particles at 2, 4, 8 us
+           (--png-dir: bench-impact.png, Figs. 22-23's views);
 
 and writes JSON (--json), a Markdown table (--markdown) and plots (--png-dir): the Taylor
 bar's observer x(t) per resolution with the published final values, the cube's angular
@@ -51,6 +57,8 @@ TAYLOR_ROUND = os.path.join(ROOT, "cases", "taylor_bar_round", "scene.cfg")
 PLATE3D = os.path.join(ROOT, "cases", "oscillating_plate_3d", "scene.cfg")
 BALLS = os.path.join(ROOT, "cases", "colliding_balls_3d", "scene.cfg")
 BALL_PLATE_3D = os.path.join(ROOT, "cases", "ball_plate_3d", "scene.cfg")
+IMPACT = os.path.join(ROOT, "cases", "high_velocity_impact", "scene.cfg")
+IMPACT_DPS = (4e-4, 2e-4, 1e-4)
 CUBE_PAPER = {"enog-a": 0.0267, "gnog-a": 0.0118}
 TAYLOR_PAPER = {8: 5.21e-3, 12: 5.91e-3, 16: 6.46e-3, 20: 6.86e-3}
 TAYLOR_REFERENCE = 6.93e-3
@@ -118,11 +126,91 @@ def col(rows, key):
     return [float(r[key]) for r in rows]
 
 
+def impact_suite(backend, tmp, results, png_dir):
+    """cases/high_velocity_impact at IMPACT_DPS: result rows, and the particles at 2, 4 and
+    8 us (dp = 2e-4, von Mises as 003 Fig. 22) and at 8 us per dp (by body, Fig. 23's view)."""
+    import math
+    import h5py
+    import numpy as np
+    v0, d, t_plate, rho0, sigma_y = 3100.0, 0.01, 0.002, 8930.0, 3.0e8
+    area = math.pi * d * d / 4
+    v_plug = v0 * area / (area + t_plate * d)
+    frames = {}
+    for dp in IMPACT_DPS:
+        name = "impact-%g" % dp
+        code, s, rows, wall = run(IMPACT, ["resolution.dp=%g" % dp, "output.snapshot_interval=2e-6",
+                                           'output.fields=["body_id", "velocity", "density", '
+                                           '"plastic_strain", "von_mises"]'],
+                                  backend, tmp, name)
+        snaps = {}
+        series = os.path.join(tmp, name, "snapshots.hdf.series")
+        if os.path.exists(series):
+            with open(series) as f:
+                for e in json.load(f)["files"]:
+                    with h5py.File(os.path.join(tmp, name, e["name"]), "r") as h:
+                        snaps[round(e["time"] * 1e6)] = (
+                            h["VTKHDF/Points"][:, :2], {k: v[:] for k, v in
+                                                        h["VTKHDF/PointData"].items()})
+        row = dict(suite="impact", status=status_of(code, s),
+                   case="high-velocity impact 3100 m/s, dp = %g" % dp, formulation="gnog-a",
+                   quantity="projectile speed at 8 us, m/s", ours=None, paper=None,
+                   published="shapes only (003 Fig. 23)", plug_balance=v_plug, target="",
+                   met=None, particles=s.get("particle_count"),
+                   monitor=s.get("instability"), exit=code, wall_s=wall)
+        if 8 in snaps and rows:
+            x, pd = snaps[8]
+            proj = pd["body_id"] == 0
+            e = col(rows, "total_energy")
+            row.update(ours=float(np.mean(pd["velocity"][proj, 0])),
+                       hole_half_width=float(np.min(np.abs(x[~proj & (x[:, 0] < 0.004), 1]))),
+                       debris_front=float(np.max(x[:, 0])),
+                       ke_end_ratio=col(rows, "kinetic_energy")[-1] / e[0],
+                       plastic_work_ratio=float(np.sum(rho0 * dp * dp / pd["density"] * sigma_y *
+                                                       pd["plastic_strain"])) / e[0],
+                       closest_pair=min(col(rows, "min_distance_ratio")),
+                       energy_rise=max(v - min(e[:k + 1]) for k, v in enumerate(e)) / e[0])
+        results.append(row)
+        frames[dp] = snaps
+    if not png_dir:
+        return
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(2, 3, figsize=(12, 8), sharex=True, sharey=True)
+    panels = [(2e-4, t, "von_mises") for t in (2, 4, 8)] + [(dp, 8, "body_id")
+                                                           for dp in IMPACT_DPS]
+    for ax, (dp, t, field) in zip(axes.flat, panels):
+        if t not in frames.get(dp, {}):
+            ax.set_title("dp = %g, %d us: no snapshot" % (dp, t), fontsize=9)
+            continue
+        x, pd = frames[dp][t]
+        size = 0.3 * (dp / 2e-4) ** 2
+        if field == "von_mises":
+            ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=pd["von_mises"] / 1e9, s=size,
+                       cmap="turbo", vmin=0, vmax=20, lw=0)
+        else:
+            ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=np.where(pd["body_id"] == 0, "C3", "C0"),
+                       s=size, lw=0)
+        ax.set_title("dp = %g m, t = %d µs" % (dp, t), fontsize=9)
+        ax.set_aspect("equal")
+    for ax in axes[1]:
+        ax.set_xlabel("x (mm)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("y (mm)")
+    fig.suptitle("High-velocity impact, 3100 m/s, SPH-GNOG-A (003 Figs. 22-23's views; "
+                 "red: projectile, blue: plate)", fontsize=10)
+    fig.colorbar(matplotlib.cm.ScalarMappable(matplotlib.colors.Normalize(0, 20), "turbo"),
+                 ax=axes[0].tolist(), shrink=0.8, label="plane von Mises (GPa)")
+    os.makedirs(png_dir, exist_ok=True)
+    fig.savefig(os.path.join(png_dir, "bench-impact.png"), dpi=100)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--backend", default="cpu")
     ap.add_argument("--suites", nargs="+", default=["cube", "taylor", "roundtaylor", "plate3d",
-                                                      "balls", "ballplate3d"])
+                                                      "balls", "ballplate3d", "impact"])
     ap.add_argument("--plate3d-modes", nargs="+", default=["1,1", "2,1", "2,2"],
                     choices=["1,1", "2,1", "2,2"], help="plate3d: the modes (m,n)")
     ap.add_argument("--balls-dp", type=float, default=0.002, help="balls: the spacing")
@@ -260,6 +348,8 @@ def main():
             if rows:
                 series["ballplate3d-plate centre"] = (t, y)
                 series["ballplate3d-ball top"] = (t, top)
+        if "impact" in a.suites:
+            impact_suite(a.backend, tmp, results, a.png_dir)
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
     meta = dict(date=datetime.date.today().isoformat(), host=platform.node(), cores=os.cpu_count(),
