@@ -141,5 +141,22 @@ int main(void) {
     const char *rings[] = {"resolution.dp=0.002"};
     cross_check(&t, "colliding_rings_2d", rings, 1, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
     cross_check(&t, "taylor_bar_square", NULL, 0, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
+
+    /* J2 plasticity with every updated-Lagrangian formulation that takes it
+     * (OG, OAS, GNOG, GNOG-A), two bodies in contact through a 3100 m/s shock:
+     * OG and OAS once wrote a penalty-scale buffer they do not have on OpenCL */
+    const char *impact_og[] = {"resolution.dp=4e-4", "method.formulation=og",
+                               "method.rotation=none"};
+    const char *impact_oas[] = {"resolution.dp=4e-4", "method.formulation=oas",
+                                "method.rotation=none"};
+    const char *impact_gnog[] = {"resolution.dp=4e-4", "method.formulation=gnog",
+                                 "method.rotation=none"};
+    const char *impact_gnog_a[] = {"resolution.dp=4e-4"};
+    cross_check(&t, "high_velocity_impact", impact_og, 3, SPH_PRECISION_DOUBLE, stored, 1e-10);
+    cross_check(&t, "high_velocity_impact", impact_oas, 3, SPH_PRECISION_DOUBLE, stored, 1e-10);
+    cross_check(&t, "high_velocity_impact", impact_gnog, 3, SPH_PRECISION_DOUBLE, recomputed,
+                1e-10);
+    cross_check(&t, "high_velocity_impact", impact_gnog_a, 1, SPH_PRECISION_DOUBLE, recomputed,
+                1e-10);
     return test_summary("test_cross_check", &t);
 }
