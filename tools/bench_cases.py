@@ -151,7 +151,13 @@ def impact_suite(backend, tmp, results, png_dir):
                         snaps[round(e["time"] * 1e6)] = (
                             h["VTKHDF/Points"][:, :2], {k: v[:] for k, v in
                                                         h["VTKHDF/PointData"].items()})
-        row = dict(suite="impact", status=status_of(code, s),
+        status = status_of(code, s)
+        ins = s.get("instability")
+        if code == 0 and ins:  # the case's monitor reports and goes on
+            status += ", monitor reported %s %.3g at t = %.3g s" % (
+                ins.get("quantity", ""), ins.get("value", float("nan")),
+                ins.get("time", float("nan")))
+        row = dict(suite="impact", status=status,
                    case="high-velocity impact 3100 m/s, dp = %g" % dp, formulation="gnog-a",
                    quantity="projectile speed at 8 us, m/s", ours=None, paper=None,
                    published="shapes only (003 Fig. 23)", plug_balance=v_plug, target="",
