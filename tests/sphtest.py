@@ -66,3 +66,14 @@ def snapshot_paths(out):
     import json
     with open(os.path.join(out, "snapshots.hdf.series")) as f:
         return [os.path.join(out, s["name"]) for s in json.load(f)["files"]]
+
+
+def plastic_work(out, mass, sigma_y, kappa=0.0):
+    """The J2 plastic work sum V (sigma_Y eps_p + kappa eps_p^2 / 2) of a run's last snapshot,
+    V = m / rho for particles of equal mass m (the snapshot needs plastic_strain and density)."""
+    import h5py
+    import numpy as np
+    with h5py.File(snapshot_paths(out)[-1], "r") as f:
+        pd = f["VTKHDF/PointData"]
+        eps, rho = pd["plastic_strain"][:], pd["density"][:]
+    return float(np.sum(mass / rho * (sigma_y * eps + 0.5 * kappa * eps ** 2)))

@@ -17,14 +17,20 @@ static bool near_rel(double a, double b, double rel) {
     return fabs(a - b) <= rel * fabs(b);
 }
 
-static void test_oscillating_plate(test_counts *c) {
+/* Load cases/<name>/scene.cfg without overrides; false (and a failed
+ * check) when it does not load. */
+static bool load_case_scene(test_counts *c, const char *case_name, sph_scene *s) {
     char path[1024];
-    test_repo_path("cases/oscillating_plate_2d/scene.cfg", path, sizeof path);
-    sph_scene s;
+    test_case_path(case_name, path, sizeof path);
     sph_error err = {0};
-    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    const sph_status st = sph_scene_load(s, path, NULL, 0, &err);
     CHECK(c, st == SPH_OK, "load %s: %s", path, err.msg);
-    if (st != SPH_OK) return;
+    return st == SPH_OK;
+}
+
+static void test_oscillating_plate(test_counts *c) {
+    sph_scene s;
+    if (!load_case_scene(c, "oscillating_plate_2d", &s)) return;
     CHECK(c, s.dim == 2, "dim %d", s.dim);
     CHECK(c, strcmp(s.title, "2D oscillating plate") == 0, "title '%s'", s.title);
     /* dp = H / ratio = 0.02 / 10 */
@@ -112,13 +118,8 @@ static void test_oscillating_plate(test_counts *c) {
 }
 
 static void test_spinning_plate(test_counts *c) {
-    char path[1024];
-    test_repo_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
     sph_scene s;
-    sph_error err = {0};
-    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
-    CHECK(c, st == SPH_OK, "load %s: %s", path, err.msg);
-    if (st != SPH_OK) return;
+    if (!load_case_scene(c, "spinning_plate_2d", &s)) return;
     CHECK(c, s.dim == 2 && s.dp == 0.05, "dim %d dp %g", s.dim, s.dp);
     CHECK(c, s.formulation == SPH_FORMULATION_ENOG_A && s.rotation == SPH_ROTATION_AVERAGED,
           "method");
@@ -138,13 +139,8 @@ static void test_spinning_plate(test_counts *c) {
 
 /* A material with its own sound speed (003 §5.2.3): K = rho0 c0^2, G from E, nu. */
 static void test_sound_speed(test_counts *c) {
-    char path[1024];
-    test_repo_path("cases/high_velocity_impact/scene.cfg", path, sizeof path);
     sph_scene s;
-    sph_error err = {0};
-    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
-    CHECK(c, st == SPH_OK, "load %s: %s", path, err.msg);
-    if (st != SPH_OK) return;
+    if (!load_case_scene(c, "high_velocity_impact", &s)) return;
     const sph_material *m = &s.materials[0];
     CHECK(c, m->sound_speed == 5328.0, "c0 %.10g as given", m->sound_speed);
     CHECK(c, near_rel(m->bulk_modulus, 8930.0 * 5328.0 * 5328.0, 1e-14), "K %.10g",

@@ -62,7 +62,8 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import SRC, check, finish, run_results, run_sphsolid, snapshot_paths  # noqa: E402
+from sphtest import (SRC, check, finish, plastic_work, run_results, run_sphsolid,  # noqa: E402
+                     snapshot_paths)
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 tmp = tempfile.mkdtemp(prefix="sphsolid-walls-")
@@ -101,15 +102,6 @@ def nearest(out, axis):
         with h5py.File(path, "r") as f:
             closest = min(closest, float(np.min(f["VTKHDF/Points"][:, axis])))
     return closest
-
-
-def plastic_work(out, mass, sigma_y, kappa=0.0):
-    """The J2 plastic work sum V (sigma_Y eps_p + kappa eps_p^2 / 2) of the last snapshot,
-    V = m / rho for particles of equal mass m."""
-    with h5py.File(snapshot_paths(out)[-1], "r") as f:
-        pd = f["VTKHDF/PointData"]
-        eps, rho = pd["plastic_strain"][:], pd["density"][:]
-    return float(np.sum(mass / rho * (sigma_y * eps + 0.5 * kappa * eps ** 2)))
 
 
 try:
