@@ -35,7 +35,8 @@ FN real half_step_pressure(CONSTANT real *prm, const hreal rho, const real drho,
  * D = (L + L^T)/2, D' = D - tr(D)/d I, Omega = (L - L^T)/2,
  * with L_ab = dv_a/dx_b (003 eqs. 9-10).  In 2D the model is the in-plane
  * one of the papers (d = 2 in the deviator; no out-of-plane component). */
-FN mat jaumann_increment(const mat tau, const mat grad_v, const real shear_modulus, const real dt) {
+FN_HOT mat jaumann_increment(const mat tau, const mat grad_v, const real shear_modulus,
+                             const real dt) {
     const mat lt = mat_transpose(grad_v);
     const mat d = mat_scale(mat_add(grad_v, lt), R(0.5));
     const mat omega = mat_scale(mat_add(grad_v, mat_scale(lt, R(-1))), R(0.5));

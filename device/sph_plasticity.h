@@ -44,8 +44,9 @@ FN mat j2_radial_return(const mat trial, CONSTANT real *prm, GLOBAL real *alpha,
  * then scaled by the return ratio when yielding.  `alpha` may be NULL
  * (elastic); *ratio receives the return ratio (1 while elastic).  Returns
  * the new stress. */
-FN mat shear_stress_advance(GLOBAL hreal *tau, const int n, const int i, const mat grad_v,
-                            CONSTANT real *prm, const real dt, GLOBAL real *alpha, real *ratio) {
+FN_HOT mat shear_stress_advance(GLOBAL hreal *tau, const int n, const int i, const mat grad_v,
+                                CONSTANT real *prm, const real dt, GLOBAL real *alpha,
+                                real *ratio) {
     const mat tau_old = hsym_load(tau, n, i);
     const mat increment = jaumann_increment(tau_old, grad_v, prm[PRM_G], dt);
     hsym_add_store(tau, n, i, increment);

@@ -49,6 +49,7 @@ typedef float real;
 #    define GLOBAL   __global
 #    define CONSTANT __constant
 #    define FN       static inline
+#    define FN_HOT   static inline
 /* A per-item kernel is an OpenCL kernel here and a plain function called in
  * an OpenMP loop on the CPU.  ITEM_PARAM/ITEM_ID give it its item index. */
 #    define KERNEL __kernel
@@ -96,6 +97,12 @@ typedef float real;
 #    define GLOBAL
 #    define CONSTANT             const
 #    define FN                   static inline
+/* once per particle and substep, on the path of every scene: inlined into
+ * the pass that calls it, whose register values it then reads directly (out
+ * of line, the 2D matrices it is passed were stored to the stack as scalars
+ * and read back as vectors, a store-forwarding stall that made
+ * shear_stress_advance 13 % of the H/dp = 10 plate's run) */
+#    define FN_HOT               static inline __attribute__((always_inline))
 #    define KERNEL               static inline
 #    define ITEM_PARAM           const int item_,
 #    define ITEM_ID              item_

@@ -139,10 +139,13 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     *max_speed2 = (double)sums[0];
 }
 
-/* One substep in one parallel region with two barriers: the pressure pass,
- * then the velocity-terms pass over fixed blocks of SPH_WG particles, each
- * block also reducing its contributions (|v|^2, Rodrigues matrices) into its
- * partial row; the rows are combined in block order afterwards. */
+/* One substep in one parallel region: the pressure pass, the velocity-terms
+ * pass, each in equal shares of the particles, then the reduction over fixed
+ * blocks of SPH_WG particles of their contributions (|v|^2, Rodrigues
+ * matrices) into the blocks' partial rows, combined in block order
+ * afterwards.  (Running the velocity-terms pass by blocks of SPH_WG too gave
+ * the 1612 particles of the H/dp = 10 plate as 4 blocks to one thread and 3
+ * to the other.) */
 static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     if ((int)((const real *)b->prm)[PRM_FORMULATION] == FORMULATION_TLSPH) {
         tl_substep_impl(b, dt_in, max_speed2);
@@ -176,19 +179,21 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                               F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                               F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY),
                               F_U8(b, FIELD_FIXED), F_REAL(b, FIELD_ACC_STRESS));
+
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            acoustic_velocity_terms(
+                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_REAL(b, FIELD_VEL),
+                F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
+                F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_ACC_DISS),
+                F_HREAL(b, FIELD_TAU), F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
+                F_REAL(b, FIELD_SPIN), F_REAL(b, FIELD_GRADV), F_REAL(b, FIELD_ART_STRESS),
+                F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE),
+                F_HREAL(b, FIELD_POS));
 #pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g) {
             const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;
-            for (int i = g * SPH_WG; i < end; ++i)
-                acoustic_velocity_terms(
-                    i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_REAL(b, FIELD_VEL),
-                    F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
-                    F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_ACC_DISS),
-                    F_HREAL(b, FIELD_TAU), F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
-                    F_REAL(b, FIELD_SPIN), F_REAL(b, FIELD_GRADV), F_REAL(b, FIELD_ART_STRESS),
-                    F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE),
-                    F_HREAL(b, FIELD_POS));
             real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
             reduce_identity(acc, 1, ncomp);
             for (int i = g * SPH_WG; i < end; ++i) {
