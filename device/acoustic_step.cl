@@ -421,18 +421,18 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const re
 #    endif
 #    if SPH_HAS_PENALTY
         if (penalty) {
-            const real inv_r = g.inv_r;
-            const vec r_ij = vec_scale(e, R(1) / inv_r);
-            const mat l_mean = mat_scale(mat_add(l_i, mat_load(gradv, n, j)), R(0.5));
-            const vec v_hat =
-                vec_sub(vec_sub(v_i, vec_load(vel, n, j)), mat_vec(l_mean, r_ij)); /* eq. 44 */
+            /* eq. 44 over r_ij, vhat_ij / r = v_ij / r - (L_i + L_j) e_ij / 2,
+             * with r_ij = r e_ij: no division per pair */
+            const vec v_hat_over_r =
+                vec_sub(vec_scale(vec_sub(v_i, vec_load(vel, n, j)), g.inv_r),
+                        vec_scale(mat_vec(mat_add(l_i, mat_load(gradv, n, j)), e), R(0.5)));
             real s_ij = s_i;
 #        if SPH_HAS_PLASTICITY
             if (PRESENT(penalty_scale)) s_ij = R(0.5) * (s_i + penalty_scale[j]);
 #        endif
-            const real weight = s_ij * dwv * inv_r;
-            pen_sum = projected ? vec_axpy(pen_sum, weight * vec_dot(v_hat, e), e)
-                                : vec_axpy(pen_sum, weight, v_hat);
+            const real weight = s_ij * dwv;
+            pen_sum = projected ? vec_axpy(pen_sum, weight * vec_dot(v_hat_over_r, e), e)
+                                : vec_axpy(pen_sum, weight, v_hat_over_r);
         }
 #    endif
     }
