@@ -2,8 +2,8 @@
  *
  * Every file in device/ is compiled twice: as OpenCL C 1.2 by the device
  * backend (with the scene's features as -D options) and as C11 by the native
- * CPU backend (once per dimension and precision, features switched at run
- * time).  This header hides the few differences between the two languages so
+ * CPU backend (once per dimension, precision and formulation, the other
+ * features switched at run time).  This header hides the few differences between the two languages so
  * that the physics exists exactly once.
  *
  * Build-time symbols (set by the host, see host/features.c):
@@ -95,24 +95,29 @@ typedef double real;
 typedef float real;
 #    endif
 #    define GLOBAL
-#    define CONSTANT             const
-#    define FN                   static inline
+#    define CONSTANT         const
+#    define FN               static inline
 /* once per particle and substep, on the path of every scene: inlined into
  * the pass that calls it, whose register values it then reads directly (out
  * of line, the 2D matrices it is passed were stored to the stack as scalars
  * and read back as vectors, a store-forwarding stall that made
  * shear_stress_advance 13 % of the H/dp = 10 plate's run) */
-#    define FN_HOT               static inline __attribute__((always_inline))
-#    define KERNEL               static inline
-#    define ITEM_PARAM           const int item_,
-#    define ITEM_ID              item_
+#    define FN_HOT           static inline __attribute__((always_inline))
+#    define KERNEL           static inline
+#    define ITEM_PARAM       const int item_,
+#    define ITEM_ID          item_
 /* The CPU backend compiles every feature in and passes NULL for the buffers
  * a scene does not have. */
-#    define PRESENT(p)           ((p) != 0)
-#    define RUNTIME_ROTATION     ((int)prm[PRM_ROTATION])
-#    define RUNTIME_KERNEL       ((int)prm[PRM_KERNEL])
-#    define RUNTIME_NBODIES      ((int)prm[PRM_NBODIES])
-#    define RUNTIME_FORMULATION  ((int)prm[PRM_FORMULATION])
+#    define PRESENT(p)       ((p) != 0)
+#    define RUNTIME_ROTATION ((int)prm[PRM_ROTATION])
+#    define RUNTIME_KERNEL   ((int)prm[PRM_KERNEL])
+#    define RUNTIME_NBODIES  ((int)prm[PRM_NBODIES])
+/* each native instance is compiled for one formulation (CMakeLists.txt) */
+#    ifdef SPH_CPU_FORMULATION
+#        define RUNTIME_FORMULATION SPH_CPU_FORMULATION
+#    else
+#        define RUNTIME_FORMULATION ((int)prm[PRM_FORMULATION])
+#    endif
 #    define RUNTIME_PLASTIC      ((int)prm[PRM_PLASTIC])
 #    define SPH_HAS_ROTATION_AVG 1
 #    define SPH_HAS_BODY_IDS     1

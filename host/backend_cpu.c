@@ -370,6 +370,11 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
                                   const double prm[PRM_COUNT], int n, sph_backend **out,
                                   sph_error *err) {
     *out = NULL;
+    const cpu_kernels *kernels = cpu_kernels_for_features(f);
+    if (!kernels || kernels->formulation != (int)f->formulation)
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "native backend: no instance compiled for formulation %d",
+                        (int)f->formulation);
     sph_backend *be = calloc(1, sizeof *be);
     cpu_impl *c = calloc(1, sizeof *c);
     if (!be || !c) {
@@ -384,7 +389,7 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     be->features = *f;
     be->n = n;
     sph_fields_layout(f, be->fields);
-    c->k = cpu_kernels_for_features(f);
+    c->k = kernels;
     c->real_size = f->double_precision ? sizeof(double) : sizeof(float);
     c->b.n = n;
     c->b.parallel = use_threads(n);

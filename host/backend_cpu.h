@@ -1,8 +1,8 @@
 /* backend_cpu.h — the native backend's seam between its generic host part
  * (backend_cpu.c: allocation, sort, permutation) and the physics, which is the
- * device/ source compiled as C once per dimension and precision
- * (backend_cpu_kernels.c, four instances: cpu_2d_f64, cpu_2d_f32, cpu_3d_f64,
- * cpu_3d_f32). */
+ * device/ source compiled as C once per dimension, precision and formulation
+ * (backend_cpu_kernels.c; instances cpu_<dim>d_<f64|f32|mixed>_<formulation>,
+ * listed in CMakeLists.txt and host/cpu_kernel_tables.c). */
 #ifndef SPH_BACKEND_CPU_H
 #define SPH_BACKEND_CPU_H
 
@@ -33,6 +33,7 @@ typedef struct {
     int dim;
     bool double_precision;
     bool mixed_precision; /* single arithmetic, history fields double */
+    int formulation;      /* the FORMULATION_* it was compiled for */
     /* V = m/rho; out: -min x (dim), max x (dim), max |v|^2, max 4h|a| */
     void (*rebuild_reduce)(cpu_buffers *b, double *out);
     /* keys of the cells of x + geometry_shift v (neighbour_build.cl) */
@@ -79,10 +80,10 @@ typedef struct {
     int (*tl_j2_update)(const double *prm, const double *f, double *state, double *tau);
 } cpu_kernels;
 
-extern const cpu_kernels cpu_2d_f64, cpu_2d_f32, cpu_2d_mixed, cpu_3d_f64, cpu_3d_f32, cpu_3d_mixed;
-/* the double or single instance (physics probes) */
+/* the double or single instance of the SPH-ENOG build (physics probes: the
+ * point functions do not depend on the formulation) */
 const cpu_kernels *cpu_kernels_for(int dim, bool double_precision);
-/* the instance of a run's dimension and precision mode */
+/* the instance of a run's dimension, precision mode and formulation */
 const cpu_kernels *cpu_kernels_for_features(const sph_features *f);
 
 #endif

@@ -1,6 +1,7 @@
 /* backend_cpu_kernels.c — the device/ physics compiled as C for the native
- * backend.  CMake builds this file four times (SPH_DIM = 2, 3 x SPH_DOUBLE =
- * 1, 0); CPU_VARIANT names the exported table.  The per-item kernels of
+ * backend.  CMake builds this file once per dimension (SPH_DIM), precision
+ * mode (SPH_DOUBLE, SPH_MIXED) and formulation (SPH_CPU_FORMULATION);
+ * CPU_VARIANT names the exported table.  The per-item kernels of
  * device/ become loop bodies of OpenMP loops; the reductions use the same
  * per-particle contributions and the same fixed blocks of SPH_WG particles
  * as the OpenCL work-groups.
@@ -398,6 +399,7 @@ const cpu_kernels CPU_VARIANT = {
     .dim = SPH_DIM,
     .double_precision = SPH_DOUBLE,
     .mixed_precision = SPH_MIXED,
+    .formulation = SPH_CPU_FORMULATION,
     .rebuild_reduce = rebuild_reduce_impl,
     .cell_keys = cell_keys_impl,
     .build_neighbours = build_neighbours_impl,

@@ -1,16 +1,44 @@
 /* cpu_kernel_tables.c — which compiled instance of the physics source
- * (backend_cpu_kernels.c, one per dimension and precision) serves a run.
+ * (backend_cpu_kernels.c, one per dimension, precision and formulation)
+ * serves a run.
  * A file of its own so that what needs only the kernels' point functions
  * (the particle relaxation, the fuzz harness that drives it) links them
  * without the rest of the native backend. */
 #include "backend_cpu.h"
+#include "sph_constants.h"
+
+/* the instances CMakeLists.txt builds, in FORMULATION_* order */
+#define CPU_INSTANCES(dim, prec)                                                                   \
+    extern const cpu_kernels cpu_##dim##d_##prec##_enog, cpu_##dim##d_##prec##_enog_a,             \
+        cpu_##dim##d_##prec##_og, cpu_##dim##d_##prec##_oas, cpu_##dim##d_##prec##_gnog,           \
+        cpu_##dim##d_##prec##_gnog_a, cpu_##dim##d_##prec##_tlsph;
+CPU_INSTANCES(2, f64)
+CPU_INSTANCES(2, f32)
+CPU_INSTANCES(2, mixed)
+CPU_INSTANCES(3, f64)
+CPU_INSTANCES(3, f32)
+CPU_INSTANCES(3, mixed)
+#define CPU_ROW(dim, prec)                                                                         \
+    {                                                                                              \
+        &cpu_##dim##d_##prec##_enog, &cpu_##dim##d_##prec##_enog_a, &cpu_##dim##d_##prec##_og,     \
+            &cpu_##dim##d_##prec##_oas, &cpu_##dim##d_##prec##_gnog,                               \
+            &cpu_##dim##d_##prec##_gnog_a, &cpu_##dim##d_##prec##_tlsph                            \
+    }
+#define CPU_FORMULATION_COUNT 7
+
+/* [dimension - 2][f64, f32, mixed][formulation] */
+static const cpu_kernels *const cpu_instances[2][3][CPU_FORMULATION_COUNT] = {
+    {CPU_ROW(2, f64), CPU_ROW(2, f32), CPU_ROW(2, mixed)},
+    {CPU_ROW(3, f64), CPU_ROW(3, f32), CPU_ROW(3, mixed)},
+};
 
 const cpu_kernels *cpu_kernels_for(int dim, bool double_precision) {
-    if (dim == 2) return double_precision ? &cpu_2d_f64 : &cpu_2d_f32;
-    return double_precision ? &cpu_3d_f64 : &cpu_3d_f32;
+    return cpu_instances[dim == 2 ? 0 : 1][double_precision ? 0 : 1][FORMULATION_ENOG];
 }
 
 const cpu_kernels *cpu_kernels_for_features(const sph_features *f) {
-    if (f->mixed_precision) return f->dim == 2 ? &cpu_2d_mixed : &cpu_3d_mixed;
-    return cpu_kernels_for(f->dim, f->double_precision);
+    const int prec = f->mixed_precision ? 2 : f->double_precision ? 0 : 1;
+    const int form = (int)f->formulation;
+    if (form < 0 || form >= CPU_FORMULATION_COUNT) return NULL;
+    return cpu_instances[f->dim == 2 ? 0 : 1][prec][form];
 }
