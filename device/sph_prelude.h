@@ -3,8 +3,8 @@
  * Every file in device/ is compiled twice: as OpenCL C 1.2 by the device
  * backend (with the scene's features as -D options) and as C11 by the native
  * CPU backend (once per dimension, precision and formulation, the other
- * features switched at run time).  This header hides the few differences between the two languages so
- * that the physics exists exactly once.
+ * features switched at run time).  This header hides the few differences
+ * between the two languages so that the physics exists exactly once.
  *
  * Build-time symbols (set by the host, see host/features.c):
  *   SPH_DIM          2 or 3
@@ -12,7 +12,8 @@
  *   SPH_MIXED        1 for mixed precision (with SPH_DOUBLE 0): single
  *                    arithmetic, the history fields in double (hreal below)
  *   SPH_KERNEL       smoothing kernel (KERNEL_* below)
- *   SPH_FORMULATION  FORMULATION_* (sph_constants.h)
+ *   SPH_FORMULATION  FORMULATION_* (sph_constants.h); SPH_CPU_FORMULATION is
+ *                    its counterpart in the native backend's C build
  *   SPH_PLASTIC      1 when the material follows J2 plasticity (003 eqs. 11-14)
  *   SPH_ROTATION     ROTATION_* : how the accumulated shear acceleration turns
  *   SPH_HAS_CLAMP    1 when the scene has fixed (clamped) particles
@@ -106,8 +107,8 @@ typedef float real;
 #    define KERNEL           static inline
 #    define ITEM_PARAM       const int item_,
 #    define ITEM_ID          item_
-/* The CPU backend compiles every feature in and passes NULL for the buffers
- * a scene does not have. */
+/* The CPU backend compiles every feature in (the formulation aside) and
+ * passes NULL for the buffers a scene does not have. */
 #    define PRESENT(p)       ((p) != 0)
 #    define RUNTIME_ROTATION ((int)prm[PRM_ROTATION])
 #    define RUNTIME_KERNEL   ((int)prm[PRM_KERNEL])

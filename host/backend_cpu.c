@@ -373,8 +373,8 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     const cpu_kernels *kernels = cpu_kernels_for_features(f);
     if (!kernels || kernels->formulation != (int)f->formulation)
         return sph_fail(err, SPH_ERR_RUNTIME,
-                        "native backend: no instance compiled for formulation %d",
-                        (int)f->formulation);
+                        "native backend: no instance compiled for formulation %s",
+                        sph_formulation_name(f->formulation));
     sph_backend *be = calloc(1, sizeof *be);
     cpu_impl *c = calloc(1, sizeof *c);
     if (!be || !c) {
@@ -396,9 +396,10 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     snprintf(be->device_name, sizeof be->device_name, "native CPU backend, %d OpenMP thread%s",
              c->b.parallel ? omp_get_max_threads() : 1, c->b.parallel ? "s" : "");
     snprintf(be->build_options, sizeof be->build_options,
-             "native: dim=%d precision=%s rotation=%s clamp=%d bodies=%d", f->dim,
-             sph_precision_name(f), sph_rotation_name(f->rotation), f->has_clamp ? 1 : 0,
-             f->nbodies);
+             "native: dim=%d precision=%s formulation=%s (compiled in) rotation=%s clamp=%d "
+             "bodies=%d",
+             f->dim, sph_precision_name(f), sph_formulation_name(f->formulation),
+             sph_rotation_name(f->rotation), f->has_clamp ? 1 : 0, f->nbodies);
 
     /* before allocating: what the run needs must fit in the memory */
     const int cap0 = sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]);
