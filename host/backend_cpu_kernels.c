@@ -148,7 +148,7 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
  * the 1612 particles of the H/dp = 10 plate as 4 blocks to one thread and 3
  * to the other.) */
 static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
-    if ((int)((const real *)b->prm)[PRM_FORMULATION] == FORMULATION_TLSPH) {
+    if (RUNTIME_FORMULATION == FORMULATION_TLSPH) { /* a constant of this instance */
         tl_substep_impl(b, dt_in, max_speed2);
         return;
     }

@@ -168,6 +168,15 @@ def tlsph(args, tmp):
             "markdown": "\n".join(table)}
 
 
+def timing_row(s, ratio, backend, stepping):
+    """A timing table row from a run's summary.json."""
+    return {"H/dp": ratio, "backend": backend, "device": s["device"], "stepping": stepping,
+            "particles": s["particle_count"], "acoustic_steps": s["acoustic_steps"],
+            "advection_steps": s["advection_steps"], "wall_time_s": s["wall_time_s"],
+            "particle_substeps_per_second": s["particle_substeps_per_second"],
+            "first_period": s["metrics"].get("first_period")}
+
+
 def timing(args, tmp):
     rows = []
     for ratio in args.resolutions:
@@ -179,14 +188,8 @@ def timing(args, tmp):
                 s = run(["--backend", backend, "--set", f"resolution.ratio={ratio}",
                          "--set", f"time.stepping={stepping}", "--set", f"time.end={args.end}"],
                         out)
-                row = {"H/dp": ratio, "backend": backend, "device": s["device"],
-                       "stepping": stepping, "particles": s["particle_count"],
-                       "acoustic_steps": s["acoustic_steps"],
-                       "advection_steps": s["advection_steps"],
-                       "wall_time_s": s["wall_time_s"],
-                       "particle_substeps_per_second": s["particle_substeps_per_second"],
-                       "first_period": s["metrics"].get("first_period"),
-                       "paper_32_core_s": PAPER_WALL.get(ratio, {}).get(stepping)}
+                row = timing_row(s, ratio, backend, stepping)
+                row["paper_32_core_s"] = PAPER_WALL.get(ratio, {}).get(stepping)
                 rows.append(row)
                 print(f"H/dp={ratio} {backend:6s} {stepping:6s} n={row['particles']} "
                       f"{row['wall_time_s']:.1f} s, "
@@ -222,12 +225,8 @@ def timing(args, tmp):
         s = run(["--backend", "cpu", "--set", "resolution.ratio=10", "--set", "time.end=1.0",
                  "--set", 'method.formulation="gnog-a"', "--set", 'method.rotation="per-particle"'],
                 os.path.join(tmp, "t-10-cpu-gnog-a"))
-        same = {"H/dp": 10, "backend": "cpu", "device": s["device"], "stepping": "dual",
-                "formulation": "gnog-a, per-particle rotation",
-                "particles": s["particle_count"], "acoustic_steps": s["acoustic_steps"],
-                "advection_steps": s["advection_steps"], "wall_time_s": s["wall_time_s"],
-                "particle_substeps_per_second": s["particle_substeps_per_second"],
-                "first_period": s["metrics"].get("first_period")}
+        same = timing_row(s, 10, "cpu", "dual")
+        same["formulation"] = "gnog-a, per-particle rotation"
         x = REFERENCE_CODE_H10_SECONDS / same["wall_time_s"]
         result["reference_method_h10"] = same
         result["speedup_over_reference_code_h10_same_method"] = x
