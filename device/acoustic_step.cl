@@ -21,7 +21,8 @@
  *  acoustic_velocity_terms (per particle i), all from the new velocities:
  *    continuity drho/dt = rho sum u_ij dW V_j        (003 eq. 15),
  *      plus the rigid walls' mirror images (sph_wall.h),
- *    rho^{n+1} = rho^{n+1/2} + dt/2 drho^{n+1}       (000 eq. 29),
+ *    rho^{n+1} = rho^{n+1/2} + dt/2 drho^{n+1}       (000 eq. 29; in single
+ *      precision summed as in density_advance, sph_elasticity.h),
  *    Riemann dissipation acceleration for the next update (sph_riemann.h),
  *    velocity gradient with the kernel-gradient correction (003 eq. 20),
  *    Jaumann update of the shear stress (003 eq. 8),
@@ -265,15 +266,16 @@ KERNEL void acoustic_velocity_terms(
 #if SPH_HAS_WALLS
     /* the rigid walls' mirror images at the new position (sph_wall.h) */
     if (prm[PRM_WALL_COUNT] > R(0)) {
-        const real wall_rate = (real)rho_half * wall_divergence(prm, hvec_load(pos, n, i), v_i,
-                                                                eos_pressure(prm, rho_half));
+        const real wall_rate =
+            (real)rho_half * wall_divergence(prm, hvec_load(pos, n, i), v_i,
+                                             half_step_pressure(prm, rho[i], drho[i], half_dt));
         /* a particle leaving the wall gives back its compression and no
          * more in one step: the free surface it becomes has p = 0 */
         drho_new += fmax(wall_rate, fmin(R(0), (prm[PRM_RHO0] - (real)rho_half) / dt));
     }
 #endif
+    rho[i] = density_advance(rho[i], rho_half, drho[i], drho_new, half_dt);
     drho[i] = drho_new;
-    rho[i] = rho_half + half_dt * drho_new;
     vec_store(acc_diss, n, i, vec_scale(dissipation, z * vol[i] / mass[i]));
 
     /* L_i = -sum v_ij (x) (B_i grad W) V_j = -(sum v_ij (x) e dW V_j) B_i^T, B symmetric */
