@@ -20,7 +20,8 @@ hreal).  Checks:
 2. The 2D plate (cases/oscillating_plate_2d, H/dp = 10, SPH-ENOG-A) to t = 0.35 s: the
    first period in mixed precision within 1e-5 of double (measured 1.3e-6 on both
    backends, 2026-11-23), single precision within 0.5 % of double (issue 5's target for
-   H/dp = 30; measured 8.8e-5 native, 9.1e-5 pocl).  summary.json and the build options
+   H/dp = 30; measured 3.3e-5 on both backends since the single-precision density update
+   of 2ad5edb, 8.8e-5 native and 9.1e-5 pocl before).  summary.json and the build options
    name the mode.
 
 Under the sanitizers (SPHSOLID_SANITIZED=1) only part 1 runs: it exercises every mixed code
