@@ -18,15 +18,16 @@ FN real eos_pressure(CONSTANT real *prm, const hreal rho) {
 /* The pressure at the density half-step, p(rho + dt/2 drho), which the
  * pressure pass evaluates for every neighbour.  In double it is taken as
  * written.  In single and mixed precision the excess over rho0 is taken
- * first, exactly (in single by Sterbenz's lemma, for rho0/2 <= rho <= 2 rho0;
- * in mixed it is the one double operation per pair), and the small half-step
- * increment is added to it in real: rho + dt/2 drho rounded to float would
- * quantise the density in steps of ulp(rho0) (6.1e-5 for rho0 = 1000), which
- * is of the order of a substep's change of the density, and the pressure in
- * steps of c0^2 ulp(rho0).  That rounding moved single precision's first
- * period of the plate (H/dp = 20, v_f = 0.05) by +0.084 % of the +0.223 %
- * it was off double (docs/benchmarks.md, "Precision modes").  (GPUs without
- * full-rate double run mixed precision's one operation per pair slowly.) */
+ * first, exactly (in single by Sterbenz's lemma, for rho0/2 <= rho <= 2
+ * rho0; in mixed it is the one double operation per pair), and the small
+ * half-step increment is added to it in real: rho + dt/2 drho rounded to
+ * float would quantise the density in steps of ulp(rho0) (6.1e-5 for rho0 =
+ * 1000), and the pressure in steps of c0^2 ulp(rho0), while a substep
+ * changes the density by only a few such steps (see density_advance).  That
+ * rounding moved single precision's first period of the plate (H/dp = 20,
+ * v_f = 0.05) by +0.084 % of the +0.223 % it was off double
+ * (docs/benchmarks.md, "Precision modes").  (GPUs without full-rate double
+ * run mixed precision's one operation per pair slowly.) */
 FN real half_step_pressure(CONSTANT real *prm, const hreal rho, const real drho,
                            const real half_dt) {
 #if SPH_DOUBLE
@@ -41,9 +42,11 @@ FN real half_step_pressure(CONSTANT real *prm, const hreal rho, const real drho,
  * (000 eq. 29), from rho^n, rho^{n+1/2} = rho^n + dt/2 drho^n and the new rate.
  * In single precision (the history fields in float) the two half-step
  * increments are summed first, rho^n + dt/2 (drho^n + drho^{n+1}), so that the
- * density rounds once per substep, not twice: a substep changes it by about
- * one ulp(rho0) on the plate at H/dp = 20 to 30, so each rounding is a
- * large part of the increment.  Measured with half_step_pressure above: the
+ * density rounds once per substep, not twice: on the plate (v_f = 0.05) the
+ * median particle's density changes by about 3 ulp(rho0) per substep at
+ * H/dp = 10 (1.6 kg/m^3 in 0.1 s, 5 662 substeps; the acoustic step, and so
+ * the change per substep, shrinks as dp), so each rounding is a large part
+ * of the increment.  Measured with half_step_pressure above: the
  * plate's first period at H/dp = 20 in single went from +0.139 % to +0.024 %
  * off double (docs/benchmarks.md, "Precision modes").  Double and mixed (rho
  * in double) keep the two half-steps as written. */
