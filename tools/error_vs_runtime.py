@@ -64,6 +64,8 @@ THEORIES = {"plate": THEORY, "plate3d": THEORY_3D}
 REFERENCE_FIRST_PERIOD = 0.2874
 LABELS = {"enog-a": "SPH-ENOG-A", "gnog-a": "SPH-GNOG-A", "enog": "SPH-ENOG", "oas": "SPH-OAS"}
 COLOURS = {"enog-a": "tab:blue", "gnog-a": "tab:orange", "enog": "tab:green", "oas": "tab:red"}
+# one marker per precision: filled circle double, open square mixed, open triangle single
+PRECISION_MARKERS = {"double": "o", "mixed": "s", "single": "^"}
 
 
 def method_sets(form):
@@ -230,7 +232,7 @@ def plot(rows, png, title):
             pts.sort(key=lambda x: x["wall_per_simulated_s"])
             ax.loglog([p["wall_per_simulated_s"] for p in pts], [p[key] for p in pts],
                       color=COLOURS.get(form, "k"), linestyle="-" if be == "cpu" else "--",
-                      marker="o" if prec == "double" else "s",
+                      marker=PRECISION_MARKERS.get(prec, "o"),
                       fillstyle="full" if prec == "double" else "none",
                       label=f"{LABELS.get(form, form)}, {prec}, {be}")
             for p in pts:
