@@ -100,9 +100,8 @@
 FN mat mean_rotation(CONSTANT real *prm, GLOBAL const real *restrict substep_sums, const int b) {
     mat r;
     const real inv_count = R(1) / prm[PRM_BODY_COUNT + b];
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int c = 0; c < SPH_DIM; ++c)
-            r.m[a][c] = substep_sums[1 + (b * SPH_DIM + a) * SPH_DIM + c] * inv_count;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int c = 0; c < SPH_DIM; ++c) r.m[a][c] =
+        substep_sums[1 + (b * SPH_DIM + a) * SPH_DIM + c] * inv_count;
     return r;
 }
 
@@ -317,7 +316,7 @@ KERNEL void acoustic_velocity_terms(
          * acoustic_pressure to the accumulated a^s plus the increment */
         real w[NSPIN];
         spin_components(spin_of(grad_v), w);
-        for (int a = 0; a < NSPIN; ++a) spin[a * n + i] = w[a];
+        UNROLL for (int a = 0; a < NSPIN; ++a) spin[a * n + i] = w[a];
     }
 #endif
 #if SPH_HAS_ENOG

@@ -33,7 +33,7 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *
                         GLOBAL const real *bmat, real *c) {
     const vec x_i = hvec_load(pos, n, i), v_i = vec_load(vel, n, i);
     real state_sum = R(0);
-    for (int a = 0; a < SPH_DIM; ++a) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         c[SPH_MONITOR_MAX_X + a] = x_i.c[a];
         c[SPH_MONITOR_MAX_X + SPH_DIM + a] = -x_i.c[a];
         state_sum += fabs(x_i.c[a]) + fabs(v_i.c[a]);

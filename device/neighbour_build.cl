@@ -115,7 +115,7 @@ KERNEL void cell_ranges(ITEM_PARAM const int n, GLOBAL const ulong *restrict key
 /* B = (A^T A + eps I)^-1 A^T (the reference's Tikhonov inverse). */
 FN mat correction_matrix(const mat a) {
     mat ata = mat_mul(mat_transpose(a), a);
-    for (int d = 0; d < SPH_DIM; ++d) ata.m[d][d] += SPH_TIKHONOV_EPS;
+    UNROLL for (int d = 0; d < SPH_DIM; ++d) ata.m[d][d] += SPH_TIKHONOV_EPS;
     return mat_mul(mat_inverse(ata), mat_transpose(a));
 }
 
@@ -126,7 +126,7 @@ FN mat correction_matrix(const mat a) {
  * (at most twice the Tikhonov value) on a degenerate support. */
 FN mat refine_correction(const mat a, const mat b) {
     mat r = mat_scale(mat_mul(a, b), R(-1));
-    for (int d = 0; d < SPH_DIM; ++d) r.m[d][d] += R(2);
+    UNROLL for (int d = 0; d < SPH_DIM; ++d) r.m[d][d] += R(2);
     return mat_mul(b, r);
 }
 
@@ -163,8 +163,8 @@ KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restri
                               GLOBAL hreal *restrict pair_pos) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    for (int a = 0; a < SPH_DIM; ++a)
-        pair_pos[a * n + i] = pos[a * n + i] + (hreal)(geometry_shift * vel[a * n + i]);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_pos[a * n + i] =
+        pos[a * n + i] + (hreal)(geometry_shift * vel[a * n + i]);
 }
 /* the rebuild reads the shifted positions and stores no pair arrays */
 #    define BUILD_POSITION_PARAMS GLOBAL const hreal *restrict pair_pos
@@ -261,7 +261,7 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
                     const int slot = NBR_AT(i, count);
                     nbr_j[slot] = j;
 #if !SPH_PAIR_RECOMPUTE
-                    for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
+                    UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
                     pair_dwv[slot] = dwv;
                     pair_inv_r[slot] = R(1) / r;
 #endif

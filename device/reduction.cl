@@ -43,13 +43,13 @@ FN void rebuild_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL con
     /* ContinuumVolumeUpdate of the reference: V = m / rho at each rebuild */
     vol[i] = (real)(mass[i] / rho[i]);
     const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
-    for (int a = 0; a < SPH_DIM; ++a) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         c[a] = -x.c[a];
         c[SPH_DIM + a] = x.c[a];
     }
     c[2 * SPH_DIM] = vec_dot(v, v);
     vec a = vec_load(acc_diss, n, i);
-    for (int d = 0; d < SPH_DIM; ++d) a.c[d] += prm[PRM_GRAVITY + d];
+    UNROLL for (int d = 0; d < SPH_DIM; ++d) a.c[d] += prm[PRM_GRAVITY + d];
     c[2 * SPH_DIM + 1] = R(4) * prm[PRM_H] * sqrt(vec_dot(a, a));
 }
 
@@ -70,11 +70,11 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *
     const int ncomp = substep_ncomp(prm);
     for (int k = 1; k < ncomp; ++k) c[k] = R(0);
     real w[NSPIN];
-    for (int a = 0; a < NSPIN; ++a) w[a] = spin[a * n + i];
+    UNROLL for (int a = 0; a < NSPIN; ++a) w[a] = spin[a * n + i];
     const mat rot = rodrigues(spin_matrix(w), dt);
     const int b = (SPH_HAS_BODY_IDS && PRESENT(body)) ? (int)body[i] : 0;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int e = 0; e < SPH_DIM; ++e) c[1 + (b * SPH_DIM + a) * SPH_DIM + e] = rot.m[a][e];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int e = 0; e < SPH_DIM; ++e)
+        c[1 + (b * SPH_DIM + a) * SPH_DIM + e] = rot.m[a][e];
 }
 
 /* Components (all by sum): kinetic energy, strain energy, momentum (d),
@@ -88,7 +88,7 @@ FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL
     const real volume = (real)(m / rho[i]);
     c[DIAG_STRAIN] = volume * strain_energy_density(hsym_load(tau, n, i), eos_pressure(prm, rho[i]),
                                                     prm[PRM_G], prm[PRM_K]);
-    for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
 #if SPH_DIM == 2
     c[DIAG_ANGULAR] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
 #else

@@ -17,17 +17,17 @@
 /* R of one particle from its deviatoric stress, pressure and density. */
 FN mat artificial_stress(const mat tau, const real p, const real rho, const real epsilon) {
     mat sigma = tau;
-    for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= p;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= p;
     mat q;
     vec lambda;
     sym_eigen(sigma, &q, &lambda);
     mat r = mat_zero();
     const real inv_rho2 = R(1) / (rho * rho);
-    for (int k = 0; k < SPH_DIM; ++k) {
+    UNROLL for (int k = 0; k < SPH_DIM; ++k) {
         if (!(lambda.c[k] > R(0))) continue;
         const real rk = -epsilon * lambda.c[k] * inv_rho2;
-        for (int a = 0; a < SPH_DIM; ++a)
-            for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] += rk * q.m[a][k] * q.m[b][k];
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b)
+            r.m[a][b] += rk * q.m[a][k] * q.m[b][k];
     }
     return r;
 }

@@ -21,7 +21,7 @@ FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, vec
     if (fixed == 0) return;
     CONSTANT real *row = prm + PRM_CONSTRAINT + (fixed - 1) * PRM_CONSTRAINT_STRIDE;
     const int mask = (int)row[0];
-    for (int a = 0; a < SPH_DIM; ++a) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         if (!(mask & (1 << a))) continue;
         v_new->c[a] = row[1 + a];
         dx->c[a] = dt * row[1 + a];
@@ -36,7 +36,7 @@ FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, vec
  * in its precision. */
 FN void verlet_advance(CONSTANT real *prm, const int n, const int i, const real dt, vec acc,
                        GLOBAL hreal *pos, GLOBAL real *vel, GLOBAL const u8 *fixed) {
-    for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
     const vec v_old = vec_load(vel, n, i);
     vec v_new = vec_axpy(v_old, dt, acc);
     vec dx = vec_scale(vec_add(v_old, v_new), R(0.5) * dt);

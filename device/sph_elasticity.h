@@ -74,7 +74,7 @@ FN_HOT mat jaumann_increment(const mat tau, const mat grad_v, const real shear_m
     const mat omega = mat_scale(mat_add(grad_v, mat_scale(lt, R(-1))), R(0.5));
     mat dev = d;
     const real tr = mat_trace(d) / R(SPH_DIM);
-    for (int a = 0; a < SPH_DIM; ++a) dev.m[a][a] -= tr;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) dev.m[a][a] -= tr;
     const mat rate = mat_add(mat_scale(dev, R(2) * shear_modulus),
                              mat_add(mat_mul(tau, mat_transpose(omega)), mat_mul(omega, tau)));
     return mat_scale(rate, dt);
@@ -94,7 +94,7 @@ FN mat spin_of(const mat grad_v) {
  * plane formula with sigma_zz = 0, in 3D the full one. */
 FN real von_mises(const mat tau, const real p) {
     mat s = tau;
-    for (int a = 0; a < SPH_DIM; ++a) s.m[a][a] -= p;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) s.m[a][a] -= p;
 #if SPH_DIM == 2
     return sqrt(fmax(s.m[0][0] * s.m[0][0] + s.m[1][1] * s.m[1][1] - s.m[0][0] * s.m[1][1] +
                          R(3) * s.m[0][1] * s.m[0][1],

@@ -74,7 +74,7 @@ FN pair_geometry pair_geometry_stored(GLOBAL const real *restrict pair_e,
                                       GLOBAL const real *restrict pair_inv_r, const int stride,
                                       const int slot) {
     pair_geometry g;
-    for (int a = 0; a < SPH_DIM; ++a) g.e.c[a] = pair_e[a * stride + slot];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) g.e.c[a] = pair_e[a * stride + slot];
     g.dwv = pair_dwv[slot];
     g.inv_r = pair_inv_r ? pair_inv_r[slot] : R(0);
     return g;

@@ -130,7 +130,7 @@ FN mat tl_j2_kirchhoff(const mat f, tl_plastic_state *st, CONSTANT real *prm, re
     sym_eigen(be, &q, &b2);
     /* (3): principal log strains; the third is e_z in 2D */
     real eps[3];
-    for (int a = 0; a < SPH_DIM; ++a) eps[a] = R(0.5) * log(b2.c[a]);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) eps[a] = R(0.5) * log(b2.c[a]);
 #    if SPH_DIM == 2
     eps[2] = R(0.5) * log1p(st->cpinv_zz_dev);
 #    endif
@@ -156,17 +156,16 @@ FN mat tl_j2_kirchhoff(const mat f, tl_plastic_state *st, CONSTANT real *prm, re
     const real mean = (lame + R(2) * mu / R(3)) * tr;
     /* (8) */
     mat tau = mat_zero();
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b)
-            for (int k = 0; k < SPH_DIM; ++k) tau.m[a][b] += (mean + s[k]) * q.m[a][k] * q.m[b][k];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b)
+        UNROLL for (int k = 0; k < SPH_DIM; ++k)
+            tau.m[a][b] += (mean + s[k]) * q.m[a][k] * q.m[b][k];
     *tau_zz = mean + s[2];
     /* (7), as the increment above */
     if (*yielded) {
         mat db = mat_zero();
-        for (int a = 0; a < SPH_DIM; ++a)
-            for (int b = 0; b < SPH_DIM; ++b)
-                for (int k = 0; k < SPH_DIM; ++k)
-                    db.m[a][b] += b2.c[k] * shrink[k] * q.m[a][k] * q.m[b][k];
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b)
+            UNROLL for (int k = 0; k < SPH_DIM; ++k)
+                db.m[a][b] += b2.c[k] * shrink[k] * q.m[a][k] * q.m[b][k];
         const mat finv = mat_inverse(f);
         const mat dc = mat_mul(mat_mul(finv, db), mat_transpose(finv));
         st->cpinv_dev = mat_add(st->cpinv_dev, mat_scale(mat_add(dc, mat_transpose(dc)), R(0.5)));

@@ -51,6 +51,13 @@ typedef float real;
 #    define CONSTANT __constant
 #    define FN       static inline
 #    define FN_HOT   static inline
+/* Loops over the components of a vector or matrix (SPH_DIM, NSYM, NSPIN),
+ * unrolled in full: pocl 3.1 (LLVM 15) left the 2-trip loops of the 2D
+ * helpers rolled, kept their vectors on the stack, and stalled on reading
+ * them back (store forwarding), which made acoustic_velocity_terms 4x
+ * slower per particle than the same source compiled by GCC or clang for the
+ * native backend (docs/benchmarks.md, "pocl"). */
+#    define UNROLL _Pragma("unroll")
 /* A per-item kernel is an OpenCL kernel here and a plain function called in
  * an OpenMP loop on the CPU.  ITEM_PARAM/ITEM_ID give it its item index. */
 #    define KERNEL __kernel
@@ -96,14 +103,17 @@ typedef double real;
 typedef float real;
 #    endif
 #    define GLOBAL
-#    define CONSTANT         const
-#    define FN               static inline
+#    define CONSTANT const
+#    define FN       static inline
 /* once per particle and substep, on the path of every scene: inlined into
  * the pass that calls it, whose register values it then reads directly (out
  * of line, the 2D matrices it is passed were stored to the stack as scalars
  * and read back as vectors, a store-forwarding stall that made
  * shear_stress_advance 13 % of the H/dp = 10 plate's run) */
-#    define FN_HOT           static inline __attribute__((always_inline))
+#    define FN_HOT   static inline __attribute__((always_inline))
+/* GCC and clang unroll the component loops themselves (see the OpenCL
+ * branch) */
+#    define UNROLL
 #    define KERNEL           static inline
 #    define ITEM_PARAM       const int item_,
 #    define ITEM_ID          item_

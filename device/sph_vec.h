@@ -18,109 +18,108 @@ typedef struct {
 
 FN vec vec_zero(void) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = R(0);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = R(0);
     return r;
 }
 FN vec vec_load(GLOBAL const real *buf, const int n, const int i) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = buf[a * n + i];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = buf[a * n + i];
     return r;
 }
 FN void vec_store(GLOBAL real *buf, const int n, const int i, const vec v) {
-    for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] = v.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] = v.c[a];
 }
 /* History fields (hreal, sph_prelude.h): loads round to real, updates add a
  * real increment in hreal, differences of two particles are taken in hreal
  * (a relative position keeps the digits its absolute values would lose). */
 FN vec hvec_load(GLOBAL const hreal *buf, const int n, const int i) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = (real)buf[a * n + i];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = (real)buf[a * n + i];
     return r;
 }
 FN void hvec_store(GLOBAL hreal *buf, const int n, const int i, const vec v) {
-    for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] = (hreal)v.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] = (hreal)v.c[a];
 }
 /* buf_i += dv */
 FN void hvec_add_store(GLOBAL hreal *buf, const int n, const int i, const vec dv) {
-    for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] += (hreal)dv.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) buf[a * n + i] += (hreal)dv.c[a];
 }
 /* buf_i - buf_j */
 FN vec hvec_diff(GLOBAL const hreal *buf, const int n, const int i, const int j) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = (real)(buf[a * n + i] - buf[a * n + j]);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = (real)(buf[a * n + i] - buf[a * n + j]);
     return r;
 }
 FN vec vec_add(const vec x, const vec y) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] + y.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] + y.c[a];
     return r;
 }
 FN vec vec_sub(const vec x, const vec y) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] - y.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] - y.c[a];
     return r;
 }
 FN vec vec_scale(const vec x, const real s) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] * s;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] * s;
     return r;
 }
 /* x + s*y */
 FN vec vec_axpy(const vec x, const real s, const vec y) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] + s * y.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.c[a] = x.c[a] + s * y.c[a];
     return r;
 }
 FN real vec_dot(const vec x, const vec y) {
     real s = R(0);
-    for (int a = 0; a < SPH_DIM; ++a) s += x.c[a] * y.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) s += x.c[a] * y.c[a];
     return s;
 }
 
 FN mat mat_zero(void) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = R(0);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        R(0);
     return r;
 }
 FN mat mat_identity(void) {
     mat r = mat_zero();
-    for (int a = 0; a < SPH_DIM; ++a) r.m[a][a] = R(1);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) r.m[a][a] = R(1);
     return r;
 }
 FN mat mat_add(const mat x, const mat y) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = x.m[a][b] + y.m[a][b];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        x.m[a][b] + y.m[a][b];
     return r;
 }
 FN mat mat_scale(const mat x, const real s) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = x.m[a][b] * s;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        x.m[a][b] * s;
     return r;
 }
 FN mat mat_transpose(const mat x) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = x.m[b][a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        x.m[b][a];
     return r;
 }
 FN mat mat_mul(const mat x, const mat y) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) {
-            real s = R(0);
-            for (int k = 0; k < SPH_DIM; ++k) s += x.m[a][k] * y.m[k][b];
-            r.m[a][b] = s;
-        }
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) {
+        real s = R(0);
+        UNROLL for (int k = 0; k < SPH_DIM; ++k) s += x.m[a][k] * y.m[k][b];
+        r.m[a][b] = s;
+    }
     return r;
 }
 FN vec mat_vec(const mat x, const vec v) {
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         real s = R(0);
-        for (int b = 0; b < SPH_DIM; ++b) s += x.m[a][b] * v.c[b];
+        UNROLL for (int b = 0; b < SPH_DIM; ++b) s += x.m[a][b] * v.c[b];
         r.c[a] = s;
     }
     return r;
@@ -128,20 +127,20 @@ FN vec mat_vec(const mat x, const vec v) {
 /* x + s * (u (x) w), the outer product u_a w_b */
 FN mat mat_add_outer(const mat x, const real s, const vec u, const vec w) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = x.m[a][b] + s * u.c[a] * w.c[b];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        x.m[a][b] + s * u.c[a] * w.c[b];
     return r;
 }
 FN real mat_trace(const mat x) {
     real s = R(0);
-    for (int a = 0; a < SPH_DIM; ++a) s += x.m[a][a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) s += x.m[a][a];
     return s;
 }
 /* Double contraction x : y */
 FN real mat_ddot(const mat x, const mat y) {
     real s = R(0);
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) s += x.m[a][b] * y.m[a][b];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) s +=
+        x.m[a][b] * y.m[a][b];
     return s;
 }
 FN real mat_det(const mat x) {
@@ -181,13 +180,13 @@ FN mat mat_inverse(const mat x) {
 /* Full d x d tensor, component (a, b) at (a * SPH_DIM + b) * n + i. */
 FN mat mat_load(GLOBAL const real *buf, const int n, const int i) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = buf[(a * SPH_DIM + b) * n + i];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        buf[(a * SPH_DIM + b) * n + i];
     return r;
 }
 FN void mat_store(GLOBAL real *buf, const int n, const int i, const mat x) {
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) buf[(a * SPH_DIM + b) * n + i] = x.m[a][b];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b)
+        buf[(a * SPH_DIM + b) * n + i] = x.m[a][b];
 }
 
 FN int sym_index(const int a, const int b) {
@@ -200,13 +199,13 @@ FN int sym_index(const int a, const int b) {
 }
 FN mat sym_load(GLOBAL const real *buf, const int n, const int i) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = buf[sym_index(a, b) * n + i];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        buf[sym_index(a, b) * n + i];
     return r;
 }
 FN void sym_store(GLOBAL real *buf, const int n, const int i, const mat x) {
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] = x.m[a][b];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = a; b < SPH_DIM; ++b)
+        buf[sym_index(a, b) * n + i] = x.m[a][b];
 }
 
 /* buf_i <- rot (buf_i + pre), the products summed in hreal; returns the new
@@ -214,11 +213,11 @@ FN void sym_store(GLOBAL real *buf, const int n, const int i, const mat x) {
  * 42, 47) without rounding it to real. */
 FN vec hvec_rotate(GLOBAL hreal *buf, const int n, const int i, const mat rot, const vec pre) {
     hreal s[SPH_DIM];
-    for (int a = 0; a < SPH_DIM; ++a) s[a] = buf[a * n + i] + (hreal)pre.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) s[a] = buf[a * n + i] + (hreal)pre.c[a];
     vec r;
-    for (int a = 0; a < SPH_DIM; ++a) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         hreal t = (hreal)0;
-        for (int b = 0; b < SPH_DIM; ++b) t += (hreal)rot.m[a][b] * s[b];
+        UNROLL for (int b = 0; b < SPH_DIM; ++b) t += (hreal)rot.m[a][b] * s[b];
         buf[a * n + i] = t;
         r.c[a] = (real)t;
     }
@@ -226,23 +225,23 @@ FN vec hvec_rotate(GLOBAL hreal *buf, const int n, const int i, const mat rot, c
 }
 FN mat hsym_load(GLOBAL const hreal *buf, const int n, const int i) {
     mat r;
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] = (real)buf[sym_index(a, b) * n + i];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = 0; b < SPH_DIM; ++b) r.m[a][b] =
+        (real)buf[sym_index(a, b) * n + i];
     return r;
 }
 FN void hsym_store(GLOBAL hreal *buf, const int n, const int i, const mat x) {
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] = (hreal)x.m[a][b];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = a; b < SPH_DIM; ++b)
+        buf[sym_index(a, b) * n + i] = (hreal)x.m[a][b];
 }
 /* buf_i += dx (dx symmetric) */
 FN void hsym_add_store(GLOBAL hreal *buf, const int n, const int i, const mat dx) {
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] += (hreal)dx.m[a][b];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = a; b < SPH_DIM; ++b)
+        buf[sym_index(a, b) * n + i] += (hreal)dx.m[a][b];
 }
 /* buf_i *= s */
 FN void hsym_scale_store(GLOBAL hreal *buf, const int n, const int i, const real s) {
-    for (int a = 0; a < SPH_DIM; ++a)
-        for (int b = a; b < SPH_DIM; ++b) buf[sym_index(a, b) * n + i] *= (hreal)s;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int b = a; b < SPH_DIM; ++b)
+        buf[sym_index(a, b) * n + i] *= (hreal)s;
 }
 
 /* Spin tensor Omega = (L - L^T)/2 <-> its independent components

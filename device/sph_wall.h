@@ -126,7 +126,7 @@ FN vec wall_acceleration(CONSTANT real *prm, const vec x, const vec v, const rea
         CONSTANT real *row = prm + PRM_WALL + w * PRM_WALL_STRIDE;
         vec normal = vec_zero();
         real d = R(0);
-        for (int c = 0; c < SPH_DIM; ++c) {
+        UNROLL for (int c = 0; c < SPH_DIM; ++c) {
             normal.c[c] = row[3 + c];
             d += (x.c[c] - row[c]) * normal.c[c];
         }
@@ -160,7 +160,7 @@ FN real wall_divergence(CONSTANT real *prm, const vec x, const vec v, const real
     for (int w = 0; w < count; ++w) {
         CONSTANT real *row = prm + PRM_WALL + w * PRM_WALL_STRIDE;
         real d = R(0), v_n = R(0);
-        for (int c = 0; c < SPH_DIM; ++c) {
+        UNROLL for (int c = 0; c < SPH_DIM; ++c) {
             d += (x.c[c] - row[c]) * row[3 + c];
             v_n += v.c[c] * row[3 + c];
         }

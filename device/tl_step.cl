@@ -94,7 +94,7 @@
 
 FN vec tl_pair_direction(GLOBAL const real *restrict pair_e, const int stride, const int slot) {
     vec e;
-    for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
     return e;
 }
 
@@ -112,10 +112,10 @@ FN vec tl_half_separation(GLOBAL const hreal *restrict pos, GLOBAL const real *r
  * host/feature_set.c). */
 FN mat tl_svk_pk1(const mat f, const real lambda, const real mu) {
     mat e = mat_scale(mat_mul(mat_transpose(f), f), R(0.5));
-    for (int a = 0; a < SPH_DIM; ++a) e.m[a][a] -= R(0.5);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) e.m[a][a] -= R(0.5);
     mat s = mat_scale(e, R(2) * mu);
     const real tr = mat_trace(e);
-    for (int a = 0; a < SPH_DIM; ++a) s.m[a][a] += lambda * tr;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) s.m[a][a] += lambda * tr;
     return mat_mul(f, s);
 }
 
@@ -211,7 +211,7 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt,
      * the stored elastic energy: the plastic work is not in it). */
     rho[i] = prm[PRM_RHO0] / det;
     const real mean = mat_trace(sigma) / R(SPH_DIM);
-    for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= mean;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= mean;
     hsym_store(tau, n, i, sigma);
 }
 

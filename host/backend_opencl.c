@@ -775,7 +775,11 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
      * (the 3D plate's acoustic_velocity_terms 54 ms per call with groups of 1,
      * 78 with 4, 121 with 256), and groups of 16 for the reductions (the 2D
      * plate to 0.1 s: 3.6-3.9 s against 4.7-5.3 s with 256); together 1.7x
-     * faster in 3D and 1.4x in 2D (docs/benchmarks.md). */
+     * faster in 3D and 1.4x in 2D (docs/benchmarks.md).  Since the component
+     * loops are unrolled for pocl (UNROLL, sph_prelude.h) that call takes
+     * 12.6 ms with groups of 1 and 12.8-15 ms with 4; the 2D plate runs to
+     * 0.3 s in 4.4-5.2 s with 4 against 5.0-6.6 s with 1, within this
+     * machine's spread, so single items stay. */
     const size_t reduce_wg = o->row_major ? 16 : 256;
     o->wg = pow2_floor(o->dev.max_work_group < reduce_wg ? o->dev.max_work_group : reduce_wg);
     o->item_wg = o->row_major ? 1 : o->wg;
