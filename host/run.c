@@ -1,5 +1,6 @@
 #include "run.h"
 
+#include "build_commit.h"
 #include "checkpoint.h"
 #include "output.h"
 #include "snapshot.h"
@@ -13,10 +14,6 @@
 #include <errno.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-#ifndef SPHSOLID_COMMIT
-#    define SPHSOLID_COMMIT ""
-#endif
 
 static double now_seconds(void) {
     struct timespec ts;
@@ -154,7 +151,7 @@ static json_object *summary_json(const sph_simulation *sim) {
     const sph_backend *be = sim->backend;
     json_object *root = json_object_new_object();
     json_object_object_add(root, "sphsolid_version", json_object_new_string(SPHSOLID_VERSION));
-    json_object_object_add(root, "commit", json_object_new_string(SPHSOLID_COMMIT));
+    json_object_object_add(root, "commit", json_object_new_string(sph_build_commit()));
     const bool unstable = isfinite(sim->stats.instability_time) && sim->stats.instability_stopped;
     json_object_object_add(root, "status",
                            json_object_new_string(unstable ? "unstable" : "completed"));
@@ -401,7 +398,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
             .scene = &sim->scene,
             .initial = &sim->particles,
             .prm = sim->prm,
-            .commit = SPHSOLID_COMMIT,
+            .commit = sph_build_commit(),
             .backend = sim->backend->kind_name,
             .device = sim->backend->device_name,
             .build_options = sim->backend->build_options,
