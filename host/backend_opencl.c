@@ -770,19 +770,19 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
                          (req->pair_geometry == SPH_PAIR_GEOMETRY_AUTO && !o->row_major));
     /* Work-group sizes per device kind, measured.  GPUs: 256 for the
      * reductions and the per-particle kernels.  CPU devices (pocl 3.1, 2
-     * cores): single items for the per-particle kernels, whose neighbour loops
-     * of uneven length cost more in pocl's work-group loops than they gain
-     * (the 3D plate's acoustic_velocity_terms 54 ms per call with groups of 1,
-     * 78 with 4, 121 with 256), and groups of 16 for the reductions (the 2D
-     * plate to 0.1 s: 3.6-3.9 s against 4.7-5.3 s with 256); together 1.7x
-     * faster in 3D and 1.4x in 2D (docs/benchmarks.md).  Since the component
-     * loops are unrolled for pocl (UNROLL, sph_prelude.h) that call takes
-     * 12.6 ms with groups of 1 and 12.8-15 ms with 4; the 2D plate runs to
-     * 0.3 s in 4.4-5.2 s with 4 against 5.0-6.6 s with 1, within this
-     * machine's spread, so single items stay. */
+     * cores): groups of 16 for the reductions (the 2D plate to 0.1 s: 3.6-3.9 s
+     * against 4.7-5.3 s with 256) and of 4 for the per-particle kernels,
+     * whose neighbour loops of uneven length cost more in pocl's work-group
+     * loops the larger the group (the 3D plate's acoustic_velocity_terms took
+     * 54 ms per call with groups of 1, 78 with 4, 121 with 256 while pocl left
+     * the component loops rolled).  With them unrolled (UNROLL, sph_prelude.h)
+     * that call takes 12.6 ms with 1 or 4, the 3D plate runs the same either
+     * way, and the 2D plate at H/dp = 10 to t = 1 s takes 11.0-11.7 s with 4
+     * against 11.9-12.6 s with 1 (three runs each, back to back): fewer
+     * groups, less of pocl's cost per group (docs/benchmarks.md, "pocl"). */
     const size_t reduce_wg = o->row_major ? 16 : 256;
     o->wg = pow2_floor(o->dev.max_work_group < reduce_wg ? o->dev.max_work_group : reduce_wg);
-    o->item_wg = o->row_major ? 1 : o->wg;
+    o->item_wg = o->row_major ? 4 : o->wg;
     o->sort_wg = pow2_floor(o->dev.max_work_group < 1024 ? o->dev.max_work_group : 1024);
     o->n = n;
     o->npad = (cl_int)o->sort_wg;
