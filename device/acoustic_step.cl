@@ -273,7 +273,7 @@ KERNEL void acoustic_velocity_terms(
         drho_new += fmax(wall_rate, fmin(R(0), (prm[PRM_RHO0] - (real)rho_half) / dt));
     }
 #endif
-    rho[i] = density_advance(rho[i], rho_half, drho[i], drho_new, half_dt);
+    rho[i] = density_advance(rho[i], drho[i], drho_new, half_dt);
     drho[i] = drho_new;
     vec_store(acc_diss, n, i, vec_scale(dissipation, z * vol[i] / mass[i]));
 

@@ -39,8 +39,8 @@ FN real half_step_pressure(CONSTANT real *prm, const hreal rho, const real drho,
 }
 
 /* The density at the end of a substep, rho^{n+1} = rho^{n+1/2} + dt/2 drho^{n+1}
- * (000 eq. 29), from rho^n, rho^{n+1/2} = rho^n + dt/2 drho^n and the new rate.
- * In single precision (the history fields in float) the two half-step
+ * (000 eq. 29) with rho^{n+1/2} = rho^n + dt/2 drho^n, from rho^n and the two
+ * rates.  In single precision (the history fields in float) the two half-step
  * increments are summed first, rho^n + dt/2 (drho^n + drho^{n+1}), so that the
  * density rounds once per substep, not twice: on the plate (v_f = 0.05) the
  * median particle's density changes by about 3 ulp(rho0) per substep at
@@ -49,15 +49,12 @@ FN real half_step_pressure(CONSTANT real *prm, const hreal rho, const real drho,
  * of the increment.  Measured with half_step_pressure above: the
  * plate's first period at H/dp = 20 in single went from +0.139 % to +0.024 %
  * off double (docs/benchmarks.md, "Precision modes").  Double and mixed (rho
- * in double) keep the two half-steps as written. */
-FN hreal density_advance(const hreal rho, const hreal rho_half, const real drho_old,
-                         const real drho_new, const real half_dt) {
+ * in double) take the two half-steps as written. */
+FN hreal density_advance(const hreal rho, const real drho_old, const real drho_new,
+                         const real half_dt) {
 #if SPH_DOUBLE || SPH_MIXED
-    (void)rho;
-    (void)drho_old;
-    return rho_half + half_dt * drho_new;
+    return (rho + half_dt * drho_old) + half_dt * drho_new;
 #else
-    (void)rho_half;
     return rho + half_dt * (drho_old + drho_new);
 #endif
 }
