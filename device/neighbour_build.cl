@@ -177,6 +177,34 @@ KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restri
             GLOBAL real *restrict pair_inv_r
 #endif
 
+/* d = x_i - x_j at the shifted positions x + s v (s = geometry_shift, see
+ * the top; the cells are those of x) such that d_ji = -d_ij exactly, however
+ * the compiler contracts it: the pair terms stay antisymmetric and momentum
+ * exact.  Recomputed geometry: the difference of the stored shifted
+ * positions, as pair_geometry_recomputed takes it; stored: written as
+ * (x_i - x_j) + s (v_i - v_j). */
+#if SPH_PAIR_RECOMPUTE
+#    define BUILD_PAIR_OFFSET(j) hvec_diff(pair_pos, n, i, (j))
+#else
+#    define BUILD_PAIR_OFFSET(j)                                                                   \
+        vec_axpy(hvec_diff(pos, n, i, (j)), geometry_shift, vec_sub(v_i, vec_load(vel, n, (j))))
+#endif
+
+/* Candidates tested per batch before their pairs are built: 32 on CPUs
+ * (the native backend, and OpenCL CPU devices, which take the row-major
+ * neighbour layout), where the test is cheap and its branch mispredicted;
+ * 1 (a test and a branch per candidate) on GPUs, where an indexed private
+ * array would live in memory.  H/dp = 10 plate, native: the rebuild 1.05 s
+ * per run with one candidate at a time, 0.94 s with batches; pocl to
+ * t = 0.3 s, 0.59 s against 0.37 s. */
+#ifndef SPH_BUILD_BATCH
+#    if SPH_OPENCL && !SPH_NBR_ROW_MAJOR
+#        define SPH_BUILD_BATCH 1
+#    else
+#        define SPH_BUILD_BATCH 32
+#    endif
+#endif
+
 KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT real *prm,
                              BUILD_POSITION_PARAMS, GLOBAL const real *restrict vol, const int gx,
                              const int gy, const int gz, GLOBAL const ulong *restrict keys,
@@ -191,6 +219,7 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
     (void)stride; /* the stored pair arrays */
     const real cutoff = prm[PRM_CUTOFF];
     const real cutoff2 = cutoff * cutoff;
+    const kernel_gradient grad_w = kernel_gradient_of(prm);
 #if !SPH_PAIR_RECOMPUTE
     const vec v_i = vec_load(vel, n, i);
 #endif
@@ -228,50 +257,52 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
                     j_end = cell_end[c];
                 }
             }
-            for (int j = j_begin; j < j_end; ++j) {
-                if (j == i) continue;
-#if SPH_PAIR_RECOMPUTE
-                const vec d = hvec_diff(pair_pos, n, i, j);
-#else
-                const vec d = vec_axpy(hvec_diff(pos, n, i, j), geometry_shift,
-                                       vec_sub(v_i, vec_load(vel, n, j)));
-#endif
-                /* d: the pair geometry at x + s v (s = geometry_shift, see the
-                 * comment at the top; the cells are those of x) such that
-                 * d_ji = -d_ij exactly, however the compiler contracts it: the
-                 * pair terms stay antisymmetric and momentum exact.  Recomputed
-                 * geometry: the difference of the stored shifted positions, as
-                 * pair_geometry_recomputed takes it; stored: written as
-                 * (x_i - x_j) + s (v_i - v_j) */
-                const real r2 = vec_dot(d, d);
-                /* coincident particles have no direction: left out of the
-                 * sums (the instability monitor reports such clustering) */
-                if (r2 >= cutoff2 || r2 <= R(0)) continue;
-#if SPH_HAS_CONTACT
-                if (separate && (int)body[j] != body_i) {
-                    if (count + ncontact < cap) nbr_j[NBR_AT(i, cap - 1 - ncontact)] = j;
-                    ++ncontact;
-                    continue;
+            /* the candidates in batches: first which lie within the
+             * cut-off, without a branch (on a CPU a third of them do, in
+             * an order the branch predictor cannot learn), then the pairs */
+            for (int j0 = j_begin; j0 < j_end; j0 += SPH_BUILD_BATCH) {
+                const int j1 = j0 + SPH_BUILD_BATCH < j_end ? j0 + SPH_BUILD_BATCH : j_end;
+                int within[SPH_BUILD_BATCH];
+                int m = 0;
+                for (int j = j0; j < j1; ++j) {
+                    const vec d = BUILD_PAIR_OFFSET(j);
+                    const real r2 = vec_dot(d, d);
+                    /* coincident particles (and i itself, d = 0 exactly)
+                     * have no direction: left out of the sums (the
+                     * instability monitor reports such clustering) */
+                    within[m] = j;
+                    m += (r2 < cutoff2) & (r2 > R(0));
                 }
+                for (int k = 0; k < m; ++k) {
+                    const int j = within[k];
+                    const vec d = BUILD_PAIR_OFFSET(j);
+                    const real r2 = vec_dot(d, d);
+#if SPH_HAS_CONTACT
+                    if (separate && (int)body[j] != body_i) {
+                        if (count + ncontact < cap) nbr_j[NBR_AT(i, cap - 1 - ncontact)] = j;
+                        ++ncontact;
+                        continue;
+                    }
 #endif
-                const real r = sqrt(r2);
-                const vec e = vec_scale(d, R(1) / r);
-                const real dwv = kernel_dw(prm, r) * vol[j];
-                if (count + ncontact < cap) {
-                    const int slot = NBR_AT(i, count);
-                    nbr_j[slot] = j;
+                    const real r = sqrt(r2);
+                    const vec e = vec_scale(d, R(1) / r);
+                    const real dwv = kernel_dw_at(grad_w, r) * vol[j];
+                    if (count + ncontact < cap) {
+                        const int slot = NBR_AT(i, count);
+                        nbr_j[slot] = j;
 #if !SPH_PAIR_RECOMPUTE
-                    UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
-                    pair_dwv[slot] = dwv;
-                    pair_inv_r[slot] = R(1) / r;
+                        UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
+                        pair_dwv[slot] = dwv;
+                        pair_inv_r[slot] = R(1) / r;
 #endif
 #if SPH_HAS_TLSPH
-                    if (PRESENT(pair_w)) pair_w[slot] = kernel_w(prm, r) * vol[j] / r2;
+                        if (PRESENT(pair_w)) pair_w[slot] = kernel_w(prm, r) * vol[j] / r2;
 #endif
+                    }
+                    /* A_i = -sum r_ij dW V_j e (x) e, 003 eq. 21 */
+                    moment = mat_add_outer(moment, -r * dwv, e, e);
+                    ++count;
                 }
-                /* A_i = -sum r_ij dW V_j e (x) e, 003 eq. 21 */
-                moment = mat_add_outer(moment, -r * dwv, e, e);
-                ++count;
             }
         }
     if (count + ncontact > cap) ATOMIC_MAX_INT(overflow, count + ncontact);

@@ -146,20 +146,60 @@ FN real kernel_w(CONSTANT real *prm, const real r) {
         return wendland_c2_alpha(h) * wendland_c2_f(r / h);
     }
 }
-/* dW/dr (<= 0 for the monotonic kernels; the Laguerre kernels change sign) */
-FN real kernel_dw(CONSTANT real *prm, const real r) {
-    const real h = prm[PRM_H];
-    switch (RUNTIME_KERNEL) {
+/* The kernel gradient's constants, taken once where dW/dr is evaluated for
+ * many pairs (the neighbour build): alpha_d(h) and the kernel.  Per pair
+ * there remain r / h and the final / h, the same operations as before in
+ * the same order, so the values are bit-identical; folding 1 / h into
+ * the constant or into q would save those two divisions too, but moves the
+ * single-precision Laguerre-Gauss dW/dr(2h) by 3.5 ulp, beyond what
+ * test_physics_units accepts. */
+typedef struct {
+    real h;
+    real alpha; /* alpha_d(h) */
+    int kind;   /* KERNEL_* (RUNTIME_KERNEL: a constant in OpenCL) */
+} kernel_gradient;
+
+FN kernel_gradient kernel_gradient_of(CONSTANT real *prm) {
+    kernel_gradient g;
+    g.h = prm[PRM_H];
+    g.kind = RUNTIME_KERNEL;
+    switch (g.kind) {
     case KERNEL_LAGUERRE_GAUSS:
-        return laguerre_gauss_alpha(h) * laguerre_gauss_df(r / h) / h;
+        g.alpha = laguerre_gauss_alpha(g.h);
+        break;
     case KERNEL_LAGUERRE_WENDLAND:
-        return laguerre_wendland_alpha(h) * laguerre_wendland_df(r / h) / h;
+        g.alpha = laguerre_wendland_alpha(g.h);
+        break;
     case KERNEL_CUBIC_BSPLINE:
-        return cubic_bspline_alpha(h) * cubic_bspline_df(r / h) / h;
+        g.alpha = cubic_bspline_alpha(g.h);
+        break;
     case KERNEL_WENDLAND_C2:
     default:
-        return wendland_c2_alpha(h) * wendland_c2_df(r / h) / h;
+        g.alpha = wendland_c2_alpha(g.h);
+        break;
     }
+    return g;
+}
+
+/* dW/dr at r (<= 0 for the monotonic kernels; the Laguerre kernels change
+ * sign) */
+FN real kernel_dw_at(const kernel_gradient g, const real r) {
+    switch (g.kind) {
+    case KERNEL_LAGUERRE_GAUSS:
+        return g.alpha * laguerre_gauss_df(r / g.h) / g.h;
+    case KERNEL_LAGUERRE_WENDLAND:
+        return g.alpha * laguerre_wendland_df(r / g.h) / g.h;
+    case KERNEL_CUBIC_BSPLINE:
+        return g.alpha * cubic_bspline_df(r / g.h) / g.h;
+    case KERNEL_WENDLAND_C2:
+    default:
+        return g.alpha * wendland_c2_df(r / g.h) / g.h;
+    }
+}
+
+/* dW/dr for one pair */
+FN real kernel_dw(CONSTANT real *prm, const real r) {
+    return kernel_dw_at(kernel_gradient_of(prm), r);
 }
 
 #endif
