@@ -163,15 +163,41 @@ KERNEL void acoustic_pressure(
     const real half_dt = R(0.5) * dt;
     const real p_i = half_step_pressure(prm, rho[i], drho[i], half_dt);
 
-    vec sum = vec_zero();
+    /* sum of riemann_pressure_pair, e_ij (-(p_i + p_j) dW V_j), in
+     * SPH_PAIR_LANES lanes (sph_prelude.h; see acoustic_velocity_terms) */
+    lanes lane_sum[SPH_DIM];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] = lanes_zero();
     const int count = nbr_count[i];
-    for (int k = 0; k < count; ++k) {
-        const int slot = NBR_AT(i, k);
-        const int j = nbr_j[slot];
-        const real p_j = half_step_pressure(prm, rho[j], drho[j], half_dt);
-        const pair_geometry g = PAIR_DIR(slot, j);
-        sum = vec_add(sum, riemann_pressure_pair(p_i, p_j, g.dwv, g.e));
+    for (int k0 = 0; k0 < count; k0 += SPH_PAIR_LANES) {
+        lanes e[SPH_DIM], dwv = lanes_zero(), p_j = lanes_zero();
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_zero();
+#if PAIR_LANES_DIRECT
+        if (k0 + SPH_PAIR_LANES <= count) {
+            const int slot = NBR_AT(i, k0);
+            dwv = lanes_load(pair_dwv + slot);
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_load(pair_e + a * stride + slot);
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                const int j = nbr_j[slot + l];
+                LANE(p_j, l) = half_step_pressure(prm, rho[j], drho[j], half_dt);
+            }
+        } else
+#endif
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                /* a lane past the last neighbour: e = 0, dW V_j = 0 */
+                const bool live = k0 + l < count;
+                const int slot = NBR_AT(i, live ? k0 + l : 0);
+                const int j = live ? nbr_j[slot] : i;
+                LANE(p_j, l) = half_step_pressure(prm, rho[j], drho[j], half_dt);
+                const pair_geometry g = PAIR_DIR(slot, j);
+                LANE(dwv, l) = live ? g.dwv : R(0);
+                UNROLL for (int a = 0; a < SPH_DIM; ++a) LANE(e[a], l) = live ? g.e.c[a] : R(0);
+            }
+        const lanes f = -(p_i + p_j) * dwv;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] += e[a] * f;
     }
+    vec sum = vec_zero();
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a)
+        sum.c[a] += LANE(lane_sum[a], l);
     const vec a_p = vec_add(vec_scale(sum, vol[i] / mass[i]), vec_load(acc_diss, n, i));
 
     vec a_s = hvec_load(acc_shear, n, i);
@@ -241,22 +267,77 @@ KERNEL void acoustic_velocity_terms(
     const real limiter_slope = prm[PRM_RIEMANN_LIMIT];
     const vec v_i = vec_load(vel, n, i);
 
+    /* The neighbour sums in SPH_PAIR_LANES lanes (sph_prelude.h): lane l
+     * takes the neighbours k = l, l + lanes, ..., the lanes are added in
+     * order at the end.  Per pair, with u = v_ij . e_ij:
+     *   continuity   u dW V_j                 (riemann_continuity_pair)
+     *   dissipation  beta u dW V_j e_ij       (riemann_dissipation_pair)
+     *   ENOG Laplacian  u dW V_j / r_ij e_ij  (000 eq. 24)
+     *   velocity gradient  dW V_j v_ij (x) e_ij  (mat_add_outer) */
+    lanes lane_div = lanes_zero(), lane_lap[SPH_DIM], lane_diss[SPH_DIM],
+          lane_grad[SPH_DIM][SPH_DIM];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+        lane_lap[a] = lane_diss[a] = lanes_zero();
+        UNROLL for (int b = 0; b < SPH_DIM; ++b) lane_grad[a][b] = lanes_zero();
+    }
+    const bool limited = limiter_slope > R(0);
+    const int count = nbr_count[i];
+    for (int k0 = 0; k0 < count; k0 += SPH_PAIR_LANES) {
+        lanes e[SPH_DIM], v_ij[SPH_DIM], dwv = lanes_zero(), inv_r = lanes_zero();
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = v_ij[a] = lanes_zero();
+#if PAIR_LANES_DIRECT
+        if (k0 + SPH_PAIR_LANES <= count) {
+            const int slot = NBR_AT(i, k0);
+            dwv = lanes_load(pair_dwv + slot);
+            inv_r = lanes_load(pair_inv_r + slot);
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_load(pair_e + a * stride + slot);
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                const int j = nbr_j[slot + l];
+                UNROLL for (int a = 0; a < SPH_DIM; ++a) LANE(v_ij[a], l) =
+                    v_i.c[a] - vel[a * n + j];
+            }
+        } else
+#endif
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                /* a lane past the last neighbour takes j = i (v_ij = 0) with
+                 * e = 0 and dW V_j = 0: every term it adds is a zero */
+                const bool live = k0 + l < count;
+                const int slot = NBR_AT(i, live ? k0 + l : 0);
+                const int j = live ? nbr_j[slot] : i;
+                const pair_geometry g = PAIR_GEOMETRY(slot, j);
+                LANE(dwv, l) = live ? g.dwv : R(0);
+                LANE(inv_r, l) = g.inv_r;
+                UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+                    LANE(e[a], l) = live ? g.e.c[a] : R(0);
+                    LANE(v_ij[a], l) = v_i.c[a] - vel[a * n + j];
+                }
+            }
+        lanes u = lanes_zero();
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) u += v_ij[a] * e[a];
+        const lanes u_dwv = u * dwv;
+        lane_div += u_dwv;
+        /* beta = 1 unless the scene limits the dissipation */
+        lanes diss = u_dwv;
+        if (limited)
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) LANE(diss, l) =
+                riemann_dissipation_factor(LANE(u, l), c0, limiter_slope, LANE(dwv, l));
+        const lanes lap = u_dwv * inv_r;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            lane_diss[a] += e[a] * diss;
+            lane_lap[a] += lap * e[a];
+            UNROLL for (int b = 0; b < SPH_DIM; ++b) lane_grad[a][b] += dwv * v_ij[a] * e[b];
+        }
+    }
     real divergence = R(0);
     vec laplacian = vec_zero(), dissipation = vec_zero();
     mat grad_sum = mat_zero();
-    const int count = nbr_count[i];
-    for (int k = 0; k < count; ++k) {
-        const int slot = NBR_AT(i, k);
-        const int j = nbr_j[slot];
-        const pair_geometry g = PAIR_GEOMETRY(slot, j);
-        const vec e = g.e;
-        const real dwv = g.dwv;
-        const vec v_ij = vec_sub(v_i, vec_load(vel, n, j));
-        const real u = vec_dot(v_ij, e);
-        divergence += riemann_continuity_pair(u, dwv);
-        dissipation = vec_add(dissipation, riemann_dissipation_pair(u, c0, limiter_slope, dwv, e));
-        laplacian = vec_axpy(laplacian, u * dwv * g.inv_r, e);
-        grad_sum = mat_add_outer(grad_sum, dwv, v_ij, e);
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        divergence += LANE(lane_div, l);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            laplacian.c[a] += LANE(lane_lap[a], l);
+            dissipation.c[a] += LANE(lane_diss[a], l);
+            UNROLL for (int b = 0; b < SPH_DIM; ++b) grad_sum.m[a][b] += LANE(lane_grad[a][b], l);
+        }
     }
 
     /* continuity and the second density half-step */

@@ -81,4 +81,18 @@ FN pair_geometry pair_geometry_stored(GLOBAL const real *restrict pair_e,
 }
 #endif
 
+/* Whole lanes of stored geometry (SPH_PAIR_LANES, sph_prelude.h) load
+ * straight from the slot arrays, where the neighbours of a particle are
+ * contiguous (row-major); otherwise lane by lane through PAIR_GEOMETRY. */
+#if SPH_PAIR_LANES > 1 && !SPH_PAIR_RECOMPUTE && SPH_NBR_ROW_MAJOR
+#    define PAIR_LANES_DIRECT 1
+FN lanes lanes_load(GLOBAL const real *p) {
+    lanes v;
+    __builtin_memcpy(&v, p, sizeof v);
+    return v;
+}
+#else
+#    define PAIR_LANES_DIRECT 0
+#endif
+
 #endif

@@ -192,6 +192,32 @@ typedef real hreal;
 #define NSYM  (SPH_DIM * (SPH_DIM + 1) / 2) /* symmetric tensor */
 #define NSPIN (SPH_DIM == 2 ? 1 : 3)        /* independent spin components */
 
+/* Lanes of the neighbour sums: lane l sums the neighbours k = l, l + lanes,
+ * ..., and the lanes are added in order at the end, a fixed order, so
+ * results stay deterministic.  On the CPU a lanes value is a SIMD vector
+ * (GCC/clang vector extensions: the compilers did not vectorise the pair
+ * loops themselves); in OpenCL one lane, the plain sequential sum, the
+ * work-items being the vectors. */
+#ifndef SPH_PAIR_LANES
+#    if SPH_OPENCL
+#        define SPH_PAIR_LANES 1
+#    else
+#        define SPH_PAIR_LANES 4
+#    endif
+#endif
+#if SPH_PAIR_LANES > 1
+typedef real lanes __attribute__((vector_size(SPH_PAIR_LANES * sizeof(real))));
+#    define LANE(x, l) ((x)[l])
+#else
+typedef real lanes;
+#    define LANE(x, l) (x)
+#endif
+FN lanes lanes_zero(void) {
+    lanes z;
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) LANE(z, l) = R(0);
+    return z;
+}
+
 /* Pair slot (i, k) in the frozen neighbour arrays (see SPH_NBR_ROW_MAJOR). */
 #if SPH_NBR_ROW_MAJOR
 #    define NBR_AT(i, k) ((i)*cap + (k))

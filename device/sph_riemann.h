@@ -43,9 +43,13 @@ FN real riemann_limiter(const real u, const real c, const real slope) {
 FN vec riemann_pressure_pair(const real p_i, const real p_j, const real dwv, const vec e_ij) {
     return vec_scale(e_ij, -(p_i + p_j) * dwv);
 }
+FN real riemann_dissipation_factor(const real u_ij, const real c0, const real limiter_slope,
+                                   const real dwv) {
+    return riemann_limiter(u_ij, c0, limiter_slope) * u_ij * dwv;
+}
 FN vec riemann_dissipation_pair(const real u_ij, const real c0, const real limiter_slope,
                                 const real dwv, const vec e_ij) {
-    return vec_scale(e_ij, riemann_limiter(u_ij, c0, limiter_slope) * u_ij * dwv);
+    return vec_scale(e_ij, riemann_dissipation_factor(u_ij, c0, limiter_slope, dwv));
 }
 FN real riemann_continuity_pair(const real u_ij, const real dwv) {
     return u_ij * dwv;

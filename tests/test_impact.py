@@ -121,9 +121,26 @@ try:
         check(across < 1e-12, f"momentum across the axis {across:.2e} p0")
         spin = np.max(np.abs(ts["angular_momentum"])) / (p0 * D)
         check(spin < 1e-12, f"angular momentum {spin:.2e} p0 D")
+        # Mirror symmetry about the axis.  The asymmetry starts at round-off
+        # (3.5e-16 D in the first snapshot) and, once the disc perforates the
+        # plate, grows by about 3.2x every 0.4 us (documented runs, native
+        # backend, snapshots every 0.4 us): from 2.0e-15 D at 2 us to 1.7e-10 D
+        # at 8 us with neighbour sums taken in sequence (as on OpenCL; pocl:
+        # 9.6e-11 D), from 4.2e-15 D to 2.8e-9 D with the native backend's
+        # 4-lane sums (3.3e-9 D with 2 lanes).  A term that breaks the
+        # symmetry shows before the growth: the 2 us bound is 25x the
+        # round-off measured there; the 8 us bound is 3.6x the largest
+        # amplified round-off measured.
         partner = mirror_partners(x0, dp)
-        asym = np.max(np.abs(x1[:, 0] - x1[partner, 0]) + np.abs(x1[:, 1] + x1[partner, 1]))
-        check(asym < 1e-9 * D, f"mirror symmetry at 8 us: {asym / D:.2e} D")
+
+        def asymmetry(x):
+            return np.max(np.abs(x[:, 0] - x[partner, 0]) + np.abs(x[:, 1] + x[partner, 1])) / D
+
+        x2, _ = read(snapshot_paths(out)[2])
+        early = asymmetry(x2)
+        check(early < 1e-13, f"mirror symmetry at 2 us: {early:.2e} D")
+        asym = asymmetry(x1)
+        check(asym < 1e-8, f"mirror symmetry at 8 us: {asym:.2e} D")
 
         e = ts["total_energy"]
         rise = float(np.max(e - np.minimum.accumulate(e))) / e[0]
@@ -145,9 +162,10 @@ try:
               f"projectile speed at 8 us {v_cm:.0f} m/s against the plug balance {v_plug:.0f}")
         closest = float(np.min(ts["min_distance_ratio"]))
         check(closest > 0.1, f"closest pair {closest:.3f} dp > 0.1 dp")
-        print(f"GNOG-A dp = {dp:g}: drift {drift:.1e}, asymmetry {asym / D:.1e} D, energy rise "
-              f"{rise:.1e}, lost {lost:.4g} >= plastic {work:.4g} J/m, hole {hole * 1e3:.2f} mm, "
-              f"v_cm {v_cm:.0f} m/s (plug {v_plug:.0f}), closest {closest:.3f} dp")
+        print(f"GNOG-A dp = {dp:g}: drift {drift:.1e}, asymmetry {asym:.1e} D "
+              f"(2 us: {early:.1e} D), energy rise {rise:.1e}, lost {lost:.4g} >= plastic "
+              f"{work:.4g} J/m, hole {hole * 1e3:.2f} mm, v_cm {v_cm:.0f} m/s "
+              f"(plug {v_plug:.0f}), closest {closest:.3f} dp")
 
     out = os.path.join(tmp, "og")
     code, err = run_sphsolid(SCENE, BACKEND, out, ["resolution.dp=%g" % dp,
