@@ -306,6 +306,9 @@ KERNEL void acoustic_velocity_terms(
                 const int j = live ? nbr_j[slot] : i;
                 const pair_geometry g = PAIR_GEOMETRY(slot, j);
                 LANE(dwv, l) = live ? g.dwv : R(0);
+                /* a padded lane's 1/r is slot 0's: finite with stored geometry;
+                 * recomputed geometry (one lane on OpenCL) would give j = i
+                 * an infinite 1/r, and 0 * inf is NaN */
                 LANE(inv_r, l) = g.inv_r;
                 UNROLL for (int a = 0; a < SPH_DIM; ++a) {
                     LANE(e[a], l) = live ? g.e.c[a] : R(0);
