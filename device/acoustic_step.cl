@@ -183,14 +183,10 @@ KERNEL void acoustic_pressure(
         } else
 #endif
             UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-                /* a lane past the last neighbour: e = 0, dW V_j = 0 */
-                const bool live = k0 + l < count;
-                const int slot = NBR_AT(i, live ? k0 + l : 0);
-                const int j = live ? nbr_j[slot] : i;
+                int j;
+                const int slot = lane_pair(nbr_j, n, cap, i, k0 + l, count, &j);
                 LANE(p_j, l) = half_step_pressure(prm, rho[j], drho[j], half_dt);
-                const pair_geometry g = PAIR_DIR(slot, j);
-                LANE(dwv, l) = live ? g.dwv : R(0);
-                UNROLL for (int a = 0; a < SPH_DIM; ++a) LANE(e[a], l) = live ? g.e.c[a] : R(0);
+                lane_set_geometry(PAIR_DIR(slot, j), k0 + l < count, l, e, &dwv, 0);
             }
         const lanes f = -(p_i + p_j) * dwv;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] += e[a] * f;
@@ -299,21 +295,11 @@ KERNEL void acoustic_velocity_terms(
         } else
 #endif
             UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-                /* a lane past the last neighbour takes j = i (v_ij = 0) with
-                 * e = 0 and dW V_j = 0: every term it adds is a zero */
-                const bool live = k0 + l < count;
-                const int slot = NBR_AT(i, live ? k0 + l : 0);
-                const int j = live ? nbr_j[slot] : i;
-                const pair_geometry g = PAIR_GEOMETRY(slot, j);
-                LANE(dwv, l) = live ? g.dwv : R(0);
-                /* a padded lane's 1/r is slot 0's: finite with stored geometry;
-                 * recomputed geometry (one lane on OpenCL) would give j = i
-                 * an infinite 1/r, and 0 * inf is NaN */
-                LANE(inv_r, l) = g.inv_r;
-                UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-                    LANE(e[a], l) = live ? g.e.c[a] : R(0);
-                    LANE(v_ij[a], l) = v_i.c[a] - vel[a * n + j];
-                }
+                int j;
+                const int slot = lane_pair(nbr_j, n, cap, i, k0 + l, count, &j);
+                lane_set_geometry(PAIR_GEOMETRY(slot, j), k0 + l < count, l, e, &dwv, &inv_r);
+                UNROLL for (int a = 0; a < SPH_DIM; ++a) LANE(v_ij[a], l) =
+                    v_i.c[a] - vel[a * n + j];
             }
         lanes u = lanes_zero();
         UNROLL for (int a = 0; a < SPH_DIM; ++a) u += v_ij[a] * e[a];

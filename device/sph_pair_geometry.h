@@ -95,4 +95,27 @@ FN lanes lanes_load(GLOBAL const real *p) {
 #    define PAIR_LANES_DIRECT 0
 #endif
 
+/* Lanes filled one by one: neighbour k of particle i, or past its last
+ * neighbour (k >= count, a padded lane) slot 0 and j = i, so v_ij = 0.
+ * Returns the slot, sets j. */
+FN_HOT int lane_pair(GLOBAL const int *restrict nbr_j, const int n, const int cap, const int i,
+                     const int k, const int count, int *j) {
+    (void)n; /* NBR_AT takes n or cap, by layout */
+    (void)cap;
+    const bool live = k < count;
+    const int slot = NBR_AT(i, live ? k : 0);
+    *j = live ? nbr_j[slot] : i;
+    return slot;
+}
+/* Lane l of e_ij, dW V_j and, where inv_r is given, 1/r from the pair's
+ * geometry g; all 0 for a padded lane (live false), so every term it adds is
+ * a zero (1/r too: recomputed geometry gives j = i an infinite 1/r, and
+ * 0 * inf is NaN). */
+FN_HOT void lane_set_geometry(const pair_geometry g, const bool live, const int l, lanes *e,
+                              lanes *dwv, lanes *inv_r) {
+    LANE(*dwv, l) = live ? g.dwv : R(0);
+    if (inv_r) LANE(*inv_r, l) = live ? g.inv_r : R(0);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) LANE(e[a], l) = live ? g.e.c[a] : R(0);
+}
+
 #endif
