@@ -134,12 +134,13 @@ FN void accumulate_increment(GLOBAL hreal *restrict acc, GLOBAL real *restrict d
  * the positions (000 eqs. 27-29), added to the dissipation acceleration the
  * update applies.  Reads positions and velocities only, so it runs
  * race-free before acoustic_pressure moves them. */
-KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, const real dt,
+KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                              CONSTANT real *prm, GLOBAL const int *restrict nbr_j,
                              GLOBAL const int *restrict contact_count,
                              GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                              GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
                              GLOBAL real *restrict acc_diss) {
+    STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n || contact_count[i] == 0) return;
     const vec a = contact_acceleration(i, n, cap, R(0.5) * dt, prm, nbr_j, contact_count, pos, vel,
@@ -149,13 +150,14 @@ KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, const real d
 #endif
 
 KERNEL void acoustic_pressure(
-    ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT real *prm,
     GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_DIR_PARAMS,
     GLOBAL const hreal *restrict rho, GLOBAL const real *restrict drho,
     GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
     GLOBAL const real *restrict acc_diss, GLOBAL hreal *restrict acc_shear,
     GLOBAL hreal *restrict pos,
     GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS STRESS_DIV_PARAMS) {
+    STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
@@ -246,13 +248,14 @@ KERNEL void acoustic_pressure(
 }
 
 KERNEL void acoustic_velocity_terms(
-    ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT real *prm,
     GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
     GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
     GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat, GLOBAL hreal *restrict rho,
     GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss, GLOBAL hreal *restrict tau,
     GLOBAL hreal *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS ART_OUT_PARAMS
         PLASTIC_OUT_PARAMS WALL_POS_PARAMS) {
+    STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
@@ -440,13 +443,14 @@ KERNEL void acoustic_velocity_terms(
  *   the particles' penalty scales (1, or the J2 return ratio when yielding),
  *   accumulated as a^ = a^ + da (GNOG), R_i a^ + da (per-particle rotation)
  *   or, averaged, Rbar (a^ + da) at the next acoustic_pressure (eq. 47). */
-KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, const real dt,
+KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                                  CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
                                  GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
                                  GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
                                  GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
                                  GLOBAL real *restrict acc_stress PENALTY_PARAMS ART_IN_PARAMS
                                      PENALTY_SCALE_PARAMS PENALTY_AVG_PARAMS) {
+    STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */

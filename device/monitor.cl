@@ -80,11 +80,8 @@ monitor_reduce(const int n, const int cap, CONSTANT real *prm, GLOBAL const int 
                GLOBAL const int *restrict nbr_j, GLOBAL const hreal *restrict pos,
                GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
                GLOBAL const real *restrict bmat, GLOBAL real *restrict partials) {
-    __local real scratch[SPH_WG];
-    real c[MONITOR_NCOMP];
-    const int i = get_global_id(0);
-    reduce_identity(c, MONITOR_NCOMP, MONITOR_NCOMP);
-    if (i < n) monitor_contrib(i, n, cap, prm, nbr_count, nbr_j, pos, vel, vol, bmat, c);
-    group_reduce_store(scratch, c, MONITOR_NCOMP, MONITOR_NCOMP, partials);
+    REDUCE_SCRATCH;
+    REDUCE_PARTICLES(MONITOR_NCOMP, MONITOR_NCOMP, MONITOR_NCOMP,
+                     monitor_contrib(i, n, cap, prm, nbr_count, nbr_j, pos, vel, vol, bmat, c));
 }
 #endif

@@ -123,17 +123,48 @@ FN void group_reduce_store(__local real *scratch, const real *c, const int nmax,
     }
 }
 
+#    if SPH_REDUCE_BLOCKS
+/* CPU devices: each work-item reduces a block of SPH_WG particles in order
+ * into the block's partial row, without barriers: pocl runs the code between
+ * two barriers as a loop over the group's work-items, and the tree over 16
+ * items took 20 us per substep for the 1612 particles of the H/dp = 10
+ * plate, 11 % of its run (docs/benchmarks.md, "pocl").  Launched with one
+ * work-item per block (reduce_items, backend_opencl.c). */
+#        define REDUCE_SCRATCH
+#        define REDUCE_PARTICLES(NMAX, NCOMP, NCOMP_MAX, CONTRIB)                                  \
+            do {                                                                                   \
+                real acc_[NCOMP_MAX], c[NCOMP_MAX];                                                \
+                reduce_identity(acc_, (NMAX), (NCOMP));                                            \
+                const int g_ = get_global_id(0);                                                   \
+                const int end_ = min(n, (g_ + 1) * SPH_WG);                                        \
+                for (int i = g_ * SPH_WG; i < end_; ++i) {                                         \
+                    CONTRIB;                                                                       \
+                    reduce_combine(acc_, c, (NMAX), (NCOMP));                                      \
+                }                                                                                  \
+                if (g_ * SPH_WG < n)                                                               \
+                    for (int k_ = 0; k_ < (NCOMP); ++k_) partials[g_ * (NCOMP) + k_] = acc_[k_];   \
+            } while (0)
+#    else
+/* GPUs: one particle per work-item, combined over the group by a tree. */
+#        define REDUCE_SCRATCH __local real scratch[SPH_WG]
+#        define REDUCE_PARTICLES(NMAX, NCOMP, NCOMP_MAX, CONTRIB)                                  \
+            do {                                                                                   \
+                real c[NCOMP_MAX];                                                                 \
+                const int i = get_global_id(0);                                                    \
+                reduce_identity(c, (NMAX), (NCOMP));                                               \
+                if (i < n) CONTRIB;                                                                \
+                group_reduce_store(scratch, c, (NMAX), (NCOMP), partials);                         \
+            } while (0)
+#    endif
+
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos,
                GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                GLOBAL const hreal *restrict rho, GLOBAL real *restrict vol,
                GLOBAL const real *restrict acc_diss, GLOBAL real *restrict partials) {
-    __local real scratch[SPH_WG];
-    real c[REBUILD_NCOMP];
-    const int i = get_global_id(0);
-    reduce_identity(c, REBUILD_NCOMP, REBUILD_NCOMP);
-    if (i < n) rebuild_contrib(i, n, prm, pos, vel, mass, rho, vol, acc_diss, c);
-    group_reduce_store(scratch, c, REBUILD_NCOMP, REBUILD_NCOMP, partials);
+    REDUCE_SCRATCH;
+    REDUCE_PARTICLES(REBUILD_NCOMP, REBUILD_NCOMP, REBUILD_NCOMP,
+                     rebuild_contrib(i, n, prm, pos, vel, mass, rho, vol, acc_diss, c));
 }
 
 #    if SPH_HAS_ROTATION_AVG
@@ -151,15 +182,13 @@ rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos
 #        define REDUCE_BODY_PARAMS
 #    endif
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-substep_reduce(const int n, const real dt, CONSTANT real *prm, GLOBAL const real *restrict vel,
+substep_reduce(const int n, STEP_DT_PARAM, CONSTANT real *prm, GLOBAL const real *restrict vel,
                GLOBAL real *restrict partials REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS) {
-    __local real scratch[SPH_WG];
-    real c[SUBSTEP_NCOMP_MAX];
-    const int i = get_global_id(0);
+    REDUCE_SCRATCH;
+    STEP_DT_BEGIN;
     const int ncomp = substep_ncomp(prm);
-    reduce_identity(c, 1, ncomp);
-    if (i < n) substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, c);
-    group_reduce_store(scratch, c, 1, ncomp, partials);
+    REDUCE_PARTICLES(1, ncomp, SUBSTEP_NCOMP_MAX,
+                     substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, c));
 }
 
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
@@ -167,20 +196,28 @@ diagnostics_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                    GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
                    GLOBAL real *restrict partials) {
-    __local real scratch[SPH_WG];
-    real c[DIAG_NCOMP];
-    const int i = get_global_id(0);
-    reduce_identity(c, 0, DIAG_NCOMP);
-    if (i < n) diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, c);
-    group_reduce_store(scratch, c, 0, DIAG_NCOMP, partials);
+    REDUCE_SCRATCH;
+    REDUCE_PARTICLES(0, DIAG_NCOMP, DIAG_NCOMP,
+                     diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, c));
 }
 
 /* Second stage, one work-group: row-wise combine of `ngroups` partial rows. */
-__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-reduce_finalize(const int ngroups, const int nmax, const int ncomp,
-                GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
-    __local real scratch[SPH_WG];
+FN void finalize_rows(__local real *scratch, const int ngroups, const int nmax, const int ncomp,
+                      GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
     const int lid = get_local_id(0);
+#    if SPH_REDUCE_BLOCKS
+    /* one work-item, the rows in order (no barriers, see REDUCE_PARTICLES) */
+    (void)scratch;
+    if (lid == 0)
+        for (int k = 0; k < ncomp; ++k) {
+            real acc = k < nmax ? REAL_LOWEST : R(0);
+            for (int g = 0; g < ngroups; ++g) {
+                const real x = partials[g * ncomp + k];
+                acc = k < nmax ? fmax(acc, x) : acc + x;
+            }
+            result[k] = acc;
+        }
+#    else
     for (int k = 0; k < ncomp; ++k) {
         real acc = k < nmax ? REAL_LOWEST : R(0);
         for (int g = lid; g < ngroups; g += SPH_WG) {
@@ -191,5 +228,28 @@ reduce_finalize(const int ngroups, const int nmax, const int ncomp,
         if (lid == 0) result[k] = scratch[0];
         barrier(CLK_LOCAL_MEM_FENCE);
     }
+#    endif
 }
+
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+reduce_finalize(const int ngroups, const int nmax, const int ncomp,
+                GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
+    __local real scratch[SPH_WG];
+    finalize_rows(scratch, ngroups, nmax, ncomp, partials, result);
+}
+
+#    if SPH_STEP_CLOCK
+/* The substep reduction's second stage (max |v|^2, then the sums that give
+ * R-bar) and the step clock's advance on that max |v|^2 (sph_step_clock.h):
+ * the next substep's size, or the end of the advection step, decided on the
+ * device so that the host need not read max |v|^2 after every substep. */
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+substep_finalize(const int ngroups, const int ncomp, GLOBAL const real *restrict partials,
+                 GLOBAL real *restrict result, GLOBAL double *restrict step_clock) {
+    __local real scratch[SPH_WG];
+    if (step_clock[CLOCK_HALTED] != 0.0) return;
+    finalize_rows(scratch, ngroups, 1, ncomp, partials, result);
+    if (get_local_id(0) == 0) step_clock_finish(step_clock, (double)result[0]);
+}
+#    endif
 #endif

@@ -26,6 +26,10 @@
  *   SPH_NBR_ROW_MAJOR 1: pair slot (i,k) at i*cap+k (CPU caches);
  *                     0: at k*n+i (coalesced on GPUs)
  *   SPH_WG           work-group size of the reduction kernels
+ *   SPH_STEP_CLOCK   1 (OpenCL, double-capable devices): the substep kernels
+ *                    read dt from the step clock (sph_step_clock.h) that
+ *                    the previous substep planned on the device; 0: dt is a
+ *                    kernel argument set by the host
  */
 #ifndef SPH_PRELUDE_H
 #define SPH_PRELUDE_H
@@ -39,7 +43,7 @@
 #ifdef __OPENCL_VERSION__
 #    define SPH_OPENCL 1
 #    pragma OPENCL FP_CONTRACT OFF
-#    if SPH_DOUBLE || SPH_MIXED
+#    if SPH_DOUBLE || SPH_MIXED || SPH_STEP_CLOCK
 #        pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #    endif
 #    if SPH_DOUBLE
@@ -168,6 +172,22 @@ typedef uint64_t ulong;
 #endif
 
 #define R(x) ((real)(x))
+
+/* The substep size dt of the substep kernels: an argument, or (SPH_STEP_CLOCK)
+ * the size the previous substep's substep_finalize planned in the step
+ * clock.  A halted clock turns the substeps the host enqueued past the end of
+ * the advection step into no-ops. */
+#if SPH_OPENCL && SPH_STEP_CLOCK
+#    define CLOCK_MEM GLOBAL
+#    include "sph_step_clock.h"
+#    define STEP_DT_PARAM GLOBAL const double *restrict step_clock
+#    define STEP_DT_BEGIN                                                                          \
+        if (step_clock[CLOCK_HALTED] != 0.0) return;                                               \
+        const real dt = (real)step_clock[CLOCK_DT]
+#else
+#    define STEP_DT_PARAM const real dt
+#    define STEP_DT_BEGIN (void)0
+#endif
 
 /* The history fields: the state a run sums from many small increments over
  * its whole length (positions, density, shear stress, the accumulated shear

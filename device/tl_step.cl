@@ -158,13 +158,14 @@ FN real tl_hourglass_modulus(CONSTANT real *prm, const real plastic_strain, cons
 }
 #    endif
 
-KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt, CONSTANT real *prm,
+KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT real *prm,
                            GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
                            GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
                            GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                            GLOBAL const real *restrict bmat, GLOBAL real *restrict defgrad,
                            GLOBAL real *restrict pk1, GLOBAL hreal *restrict rho,
                            GLOBAL hreal *restrict tau TL_PLASTIC_STATE_PARAMS) {
+    STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -215,7 +216,7 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, const real dt,
     hsym_store(tau, n, i, sigma);
 }
 
-KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt,
+KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                             CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
                             GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
                             GLOBAL const real *restrict pair_dwv,
@@ -225,6 +226,7 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt
                             GLOBAL const real *restrict bmat, GLOBAL const real *restrict defgrad,
                             GLOBAL const real *restrict pk1, GLOBAL hreal *restrict acc_shear,
                             GLOBAL const real *restrict pair_w TL_PLASTIC_SWITCH_PARAMS) {
+    STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
@@ -288,9 +290,10 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, const real dt
     hvec_store(acc_shear, n, i, acc);
 }
 
-KERNEL void tl_update(ITEM_PARAM const int n, const real dt, CONSTANT real *prm,
+KERNEL void tl_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT real *prm,
                       GLOBAL const hreal *restrict acc_shear, GLOBAL hreal *restrict pos,
                       GLOBAL real *restrict vel TL_CLAMP_PARAMS) {
+    STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     verlet_advance(prm, n, i, dt, hvec_load(acc_shear, n, i), pos, vel, TL_CLAMP_ARG);

@@ -1,6 +1,7 @@
 #include "backend.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,6 +42,22 @@ sph_status sph_backend_create(const sph_backend_request *req, const sph_features
 
 void sph_backend_destroy(sph_backend *be) {
     if (be) be->ops->destroy(be);
+}
+
+sph_status sph_backend_advance_by_substeps(sph_backend *be, double *clock, long limit,
+                                           sph_error *err) {
+    while (clock[CLOCK_HALTED] == CLOCK_RUNNING && clock[CLOCK_COUNT] < (double)limit) {
+        double max_speed2 = 0.0;
+        const sph_status st = be->ops->substep(be, clock[CLOCK_DT], &max_speed2, err);
+        if (st) return st;
+        step_clock_finish(clock, max_speed2);
+    }
+    return SPH_OK;
+}
+
+sph_status sph_backend_advance(sph_backend *be, double *clock, long limit, sph_error *err) {
+    return be->ops->advance ? be->ops->advance(be, clock, limit, err)
+                            : sph_backend_advance_by_substeps(be, clock, limit, err);
 }
 
 void sph_backend_profile_add(sph_backend *be, const char *name, double seconds) {

@@ -17,9 +17,12 @@
 #include "particles.h"
 #include "sph_constants.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+
+#include "sph_step_clock.h"
 
 typedef enum { SPH_BACKEND_AUTO, SPH_BACKEND_CPU, SPH_BACKEND_OPENCL } sph_backend_kind;
 
@@ -32,12 +35,24 @@ typedef enum {
     SPH_PAIR_GEOMETRY_RECOMPUTED
 } sph_pair_geometry;
 
+/* Who advances the acoustic step clock (device/sph_step_clock.h) on OpenCL:
+ * AUTO and DEVICE the device, where it has double precision, so that an
+ * advection step's substeps are enqueued without a host read after each;
+ * HOST reads max |v|^2 after every substep (the native backend's way, and
+ * the fallback for devices without cl_khr_fp64).  Both give the same steps. */
+typedef enum {
+    SPH_STEP_CLOCK_AUTO,
+    SPH_STEP_CLOCK_DEVICE,
+    SPH_STEP_CLOCK_HOST
+} sph_step_clock_mode;
+
 typedef struct {
     sph_backend_kind kind;
     int device_index; /* OpenCL device (as listed by `sphsolid devices`); -1: choose */
     bool quiet;       /* no build-option/choice messages on stderr */
     bool profile;     /* time every phase (serialises the device queue) */
     sph_pair_geometry pair_geometry;
+    sph_step_clock_mode step_clock;
 } sph_backend_request;
 
 /* Result of a configuration rebuild. */
@@ -88,6 +103,10 @@ typedef struct {
     sph_status (*rebuild)(sph_backend *be, sph_rebuild_info *info, sph_error *err);
     /* one acoustic substep of size dt; returns max |v|^2 after it */
     sph_status (*substep)(sph_backend *be, double dt, double *max_speed2, sph_error *err);
+    /* optional: substeps under the step clock (SPH_CLOCK_LEN doubles,
+     * device/sph_step_clock.h) until it halts or clock[CLOCK_COUNT] reaches
+     * `limit`; NULL: sph_backend_advance calls substep once per step */
+    sph_status (*advance)(sph_backend *be, double *clock, long limit, sph_error *err);
     sph_status (*diagnostics)(sph_backend *be, sph_diagnostics *out, sph_error *err);
     /* instability monitor measures (device/monitor.cl): the
      * SPH_MONITOR_NCOMP(dim) values laid out in sph_constants.h */
@@ -135,6 +154,14 @@ sph_status sph_backend_create(const sph_backend_request *req, const sph_features
                               const double prm[PRM_COUNT], int n, sph_backend **out,
                               sph_error *err);
 void sph_backend_destroy(sph_backend *be);
+
+/* Acoustic substeps under the step clock `clock` (SPH_CLOCK_LEN doubles,
+ * device/sph_step_clock.h) until it halts or clock[CLOCK_COUNT] reaches
+ * `limit`: the backend's advance op where it has one, else one substep and
+ * one host-side clock advance at a time (sph_backend_advance_by_substeps). */
+sph_status sph_backend_advance(sph_backend *be, double *clock, long limit, sph_error *err);
+sph_status sph_backend_advance_by_substeps(sph_backend *be, double *clock, long limit,
+                                           sph_error *err);
 
 /* Backend constructors (backend_cpu.c, backend_opencl.c); the OpenCL one
  * takes the device index itself (the request's may be -1). */

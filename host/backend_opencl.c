@@ -40,6 +40,7 @@ enum {
     RES_PARTIALS,
     RES_SUBSTEP_SUMS,
     RES_OVERFLOW,
+    RES_STEP_CLOCK,
     RES_N,
     RES_NPAD,
     RES_CAP,
@@ -53,7 +54,8 @@ typedef struct {
     sph_cl_kernel cell_keys, permute_real, permute_hreal, permute_int, permute_u8, cell_ranges,
         build, sort_local, merge_local, sort_global, pressure, velocity_terms, rebuild_reduce,
         substep_reduce, diagnostics_reduce, finalize;
-    sph_cl_kernel shear_force; /* stress-divergence formulations only */
+    sph_cl_kernel substep_finalize; /* device step clock only */
+    sph_cl_kernel shear_force;      /* stress-divergence formulations only */
     sph_cl_kernel monitor_reduce;
     sph_cl_kernel contact;                                    /* scenes with several bodies only */
     sph_cl_kernel tl_deformation, tl_acceleration, tl_update; /* TLSPH only */
@@ -72,14 +74,18 @@ typedef struct {
     cl_mem pair_pos; /* recomputed pair geometry only: shifted positions (sph_pair_geometry.h) */
     cl_mem nbr_count, nbr_j, pair_e, pair_dwv, pair_inv_r, keys, cell_start, cell_end, prm,
         grid_geom, partials, substep_sums, overflow, result;
+    cl_mem step_clock; /* device step clock only (device/sph_step_clock.h) */
     cl_int n, npad, cap, gx, gy, gz, ngroups;
     int substep_ncomp; /* components of the substep reduction (reduction.cl) */
     size_t real_size;
     size_t wg;      /* reductions (SPH_WG) */
     size_t item_wg; /* per-particle kernels */
     size_t sort_wg;
+    size_t reduce_items; /* work-items of the first reduction stage */
+    bool reduce_blocks;  /* SPH_REDUCE_BLOCKS (reduction.cl) */
     bool row_major;
     bool pair_recompute; /* device/sph_pair_geometry.h */
+    bool device_clock;   /* the substeps advance the step clock themselves */
     long cells_allocated;
     sph_cl_arg res[RES_COUNT];
 } ocl_impl;
@@ -212,6 +218,7 @@ static void fill_resources(sph_backend *be, ocl_impl *o) {
     o->res[RES_PARTIALS] = (sph_cl_arg){"partials", sizeof(cl_mem), &o->partials};
     o->res[RES_SUBSTEP_SUMS] = (sph_cl_arg){"substep_sums", sizeof(cl_mem), &o->substep_sums};
     o->res[RES_OVERFLOW] = (sph_cl_arg){"overflow", sizeof(cl_mem), &o->overflow};
+    o->res[RES_STEP_CLOCK] = (sph_cl_arg){"step_clock", sizeof(cl_mem), &o->step_clock};
     o->res[RES_N] = (sph_cl_arg){"n", sizeof(cl_int), &o->n};
     o->res[RES_NPAD] = (sph_cl_arg){"npad", sizeof(cl_int), &o->npad};
     o->res[RES_CAP] = (sph_cl_arg){"cap", sizeof(cl_int), &o->cap};
@@ -419,8 +426,7 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     ocl_impl *o = be->impl;
     const int d = be->features.dim;
     const int ncomp = 2 * d + 2;
-    sph_status st =
-        launch(o, &o->k.rebuild_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
+    sph_status st = launch(o, &o->k.rebuild_reduce, o->reduce_items, o->wg, NULL, 0, err);
     if (!st) st = finalize(o, ncomp, ncomp, o->result, err);
     double red[8];
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
@@ -480,36 +486,100 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     return st;
 }
 
-/* One TLSPH substep (tl_step.cl): deformation, acceleration and update
- * passes, then the substep reduction (max |v|^2). */
-static sph_status tl_substep(ocl_impl *o, size_t items, const sph_cl_arg *dt_arg,
-                             double *max_speed2, sph_error *err) {
-    sph_status st = launch(o, &o->k.tl_deformation, items, o->item_wg, dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.tl_acceleration, items, o->item_wg, dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.tl_update, items, o->item_wg, dt_arg, 1, err);
-    if (!st)
-        st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, dt_arg, 1, err);
+/* Enqueue one acoustic substep's passes and the first stage of its
+ * reduction (max |v|^2, the R-bar sums): TLSPH's deformation, acceleration
+ * and update passes (tl_step.cl), or contact (several bodies), pressure,
+ * velocity terms and, for the stress-divergence formulations, the shear
+ * force (acoustic_step.cl).  dt_arg: the substep size as an argument, or
+ * NULL when the kernels read it from the device step clock. */
+static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_error *err) {
+    const size_t items = (size_t)o->n;
+    const int ndt = dt_arg ? 1 : 0;
+    sph_status st = SPH_OK;
+    if (o->k.tl_deformation.kernel) {
+        st = launch(o, &o->k.tl_deformation, items, o->item_wg, dt_arg, ndt, err);
+        if (!st) st = launch(o, &o->k.tl_acceleration, items, o->item_wg, dt_arg, ndt, err);
+        if (!st) st = launch(o, &o->k.tl_update, items, o->item_wg, dt_arg, ndt, err);
+    } else {
+        if (o->k.contact.kernel) st = launch(o, &o->k.contact, items, o->item_wg, dt_arg, ndt, err);
+        if (!st) st = launch(o, &o->k.pressure, items, o->item_wg, dt_arg, ndt, err);
+        if (!st) st = launch(o, &o->k.velocity_terms, items, o->item_wg, dt_arg, ndt, err);
+        if (!st && o->k.shear_force.kernel)
+            st = launch(o, &o->k.shear_force, items, o->item_wg, dt_arg, ndt, err);
+    }
+    if (!st) st = launch(o, &o->k.substep_reduce, o->reduce_items, o->wg, dt_arg, ndt, err);
+    return st;
+}
+
+static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_error *err);
+
+/* One substep of size dt, then max |v|^2 read back: with the host step
+ * clock (devices without double precision, or --step-clock host) dt is the
+ * kernels' argument; with the device clock it goes in a clock set up for a
+ * lone substep (the tests' direct substeps). */
+static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sph_error *err) {
+    ocl_impl *o = be->impl;
+    if (o->device_clock) {
+        double clock[SPH_CLOCK_LEN] = {0};
+        clock[CLOCK_DT] = dt;
+        clock[CLOCK_T_ADV_END] = INFINITY;
+        clock[CLOCK_NEXT_OUTPUT] = INFINITY;
+        clock[CLOCK_ONE_SUBSTEP] = 1.0;
+        clock[CLOCK_SPEED_LIMIT] = INFINITY;
+        const sph_status st = ocl_advance(be, clock, 1, err);
+        *max_speed2 = clock[CLOCK_MAX_SPEED2];
+        return st;
+    }
+    real_scalar dt_s;
+    const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
+    sph_status st = enqueue_substep(o, &dt_arg, err);
     if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
     if (!st) st = read_reals(o, o->substep_sums, 0, 1, max_speed2, err);
     return st;
 }
 
-static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sph_error *err) {
+/* How many substeps the clock will likely take to the end of its advection
+ * step, from the size of the next one (the sound speed dominates it, so it
+ * changes little within a step); at least 1, at most `cap`. */
+static long substeps_to_end(const double *clock, long cap) {
+    if (clock[CLOCK_ONE_SUBSTEP] != 0.0) return 1;
+    const double end = fmin(clock[CLOCK_T_ADV_END], clock[CLOCK_NEXT_OUTPUT]);
+    const double k = ceil((end - clock[CLOCK_T]) / clock[CLOCK_DT]);
+    if (!(k >= 1.0)) return 1;
+    return k < (double)cap ? (long)k : cap;
+}
+
+/* The device step clock: enqueue the advection step's substeps, each ending
+ * in substep_finalize, which plans the next one's size on the device (or
+ * halts the clock, after which the rest are no-ops), and read the clock back
+ * once per batch instead of max |v|^2 once per substep.  The batch is the
+ * predicted number of substeps to the end of the advection step, at most 64
+ * (a halt midway, a blow-up or the end of the run, wastes at most the rest
+ * of a batch). */
+static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_error *err) {
     ocl_impl *o = be->impl;
-    real_scalar dt_s;
-    const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
-    const size_t items = (size_t)be->n;
-    if (o->k.tl_deformation.kernel) return tl_substep(o, items, &dt_arg, max_speed2, err);
-    sph_status st = SPH_OK;
-    if (o->k.contact.kernel) st = launch(o, &o->k.contact, items, o->item_wg, &dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.pressure, items, o->item_wg, &dt_arg, 1, err);
-    if (!st) st = launch(o, &o->k.velocity_terms, items, o->item_wg, &dt_arg, 1, err);
-    if (!st && o->k.shear_force.kernel)
-        st = launch(o, &o->k.shear_force, items, o->item_wg, &dt_arg, 1, err);
-    if (!st)
-        st = launch(o, &o->k.substep_reduce, (size_t)o->ngroups * o->wg, o->wg, &dt_arg, 1, err);
-    if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
-    if (!st) st = read_reals(o, o->substep_sums, 0, 1, max_speed2, err);
+    if (!o->device_clock) return sph_backend_advance_by_substeps(be, clock, limit, err);
+    const size_t bytes = SPH_CLOCK_LEN * sizeof(double);
+    sph_status st = cl_check(
+        clEnqueueWriteBuffer(o->queue, o->step_clock, CL_FALSE, 0, bytes, clock, 0, NULL, NULL),
+        "writing the step clock", err);
+    cl_int ngroups = o->ngroups, ncomp = o->substep_ncomp;
+    const sph_cl_arg args[] = {{"ngroups", sizeof(cl_int), &ngroups},
+                               {"ncomp", sizeof(cl_int), &ncomp},
+                               {"result", sizeof(cl_mem), &o->substep_sums}};
+    while (!st && clock[CLOCK_HALTED] == CLOCK_RUNNING && clock[CLOCK_COUNT] < (double)limit) {
+        const long left = limit - (long)clock[CLOCK_COUNT];
+        const long batch = substeps_to_end(clock, left < 64 ? left : 64);
+        for (long b = 0; b < batch && !st; ++b) {
+            st = enqueue_substep(o, NULL, err);
+            if (!st) st = launch(o, &o->k.substep_finalize, o->wg, o->wg, args, 3, err);
+        }
+        if (!st)
+            st = cl_check(clEnqueueReadBuffer(o->queue, o->step_clock, CL_TRUE, 0, bytes, clock, 0,
+                                              NULL, NULL),
+                          "reading the step clock", err);
+    }
+    if (st) clFinish(o->queue); /* the write may still read `clock` */
     return st;
 }
 
@@ -518,8 +588,7 @@ static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     const int d = be->features.dim;
     const int ncomp = 2 + d + (d == 2 ? 1 : 3);
     double red[8];
-    sph_status st =
-        launch(o, &o->k.diagnostics_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
+    sph_status st = launch(o, &o->k.diagnostics_reduce, o->reduce_items, o->wg, NULL, 0, err);
     if (!st) st = finalize(o, 0, ncomp, o->result, err);
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
     if (st) return st;
@@ -529,8 +598,7 @@ static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
 
 static sph_status ocl_monitor(sph_backend *be, double *out, sph_error *err) {
     ocl_impl *o = be->impl;
-    sph_status st =
-        launch(o, &o->k.monitor_reduce, (size_t)o->ngroups * o->wg, o->wg, NULL, 0, err);
+    sph_status st = launch(o, &o->k.monitor_reduce, o->reduce_items, o->wg, NULL, 0, err);
     const int ncomp = SPH_MONITOR_NCOMP(be->features.dim);
     if (!st) st = finalize(o, ncomp, ncomp, o->result, err);
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, out, err);
@@ -609,7 +677,8 @@ static void ocl_destroy(sph_backend *be) {
         cl_mem *bufs[] = {&o->nbr_count,  &o->nbr_j,        &o->pair_e,   &o->pair_dwv,
                           &o->pair_inv_r, &o->pair_w,       &o->pair_pos, &o->keys,
                           &o->cell_start, &o->cell_end,     &o->prm,      &o->grid_geom,
-                          &o->partials,   &o->substep_sums, &o->overflow, &o->result};
+                          &o->partials,   &o->substep_sums, &o->overflow, &o->result,
+                          &o->step_clock};
         for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) release(bufs[k]);
         if (o->program) clReleaseProgram(o->program);
         if (o->queue) clReleaseCommandQueue(o->queue);
@@ -623,6 +692,7 @@ static const sph_backend_ops ocl_ops = {
     .upload = ocl_upload,
     .rebuild = ocl_rebuild,
     .substep = ocl_substep,
+    .advance = ocl_advance,
     .diagnostics = ocl_diagnostics,
     .monitor = ocl_monitor,
     .download = ocl_download,
@@ -678,6 +748,11 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
     if (o->pair_recompute) {
         sph_status st = sph_cl_kernel_create(o->program, "shifted_positions", o->res, RES_COUNT,
                                              &o->k.shifted_positions, err);
+        if (st) return st;
+    }
+    if (o->device_clock) {
+        sph_status st = sph_cl_kernel_create(o->program, "substep_finalize", o->res, RES_COUNT,
+                                             &o->k.substep_finalize, err);
         if (st) return st;
     }
     /* the double history fields exist only in mixed precision */
@@ -756,6 +831,16 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
                o->dev.platform_name, o->dev.version);
     o->real_size = f->double_precision ? sizeof(double) : sizeof(float);
     o->row_major = (o->dev.type & CL_DEVICE_TYPE_CPU) != 0;
+    /* The step clock on the device needs double precision there
+     * (device/sph_step_clock.h). */
+    if (req->step_clock == SPH_STEP_CLOCK_DEVICE && !o->dev.has_fp64) {
+        st = sph_fail(err, SPH_ERR_INPUT,
+                      "--step-clock device: OpenCL device %d (%s) has no double precision "
+                      "(cl_khr_fp64), which the device step clock needs; use --step-clock host",
+                      device_index, o->dev.name);
+        goto fail;
+    }
+    o->device_clock = req->step_clock != SPH_STEP_CLOCK_HOST && o->dev.has_fp64;
     /* The frozen pair geometry recomputed in every pass instead of streamed
      * from per-slot arrays (device/sph_pair_geometry.h), measured on the 3D
      * plate at H/dp = 5 (204 020 particles): on an H100 the two acoustic
@@ -788,6 +873,11 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     o->npad = (cl_int)o->sort_wg;
     while (o->npad < n) o->npad *= 2;
     o->ngroups = (cl_int)((n + (int)o->wg - 1) / (int)o->wg);
+    /* The reductions' first stage on CPU devices: a work-item per block of
+     * SPH_WG particles, no barriers (device/reduction.cl); on GPUs a
+     * work-item per particle and a tree over each group. */
+    o->reduce_blocks = o->row_major;
+    o->reduce_items = o->reduce_blocks ? (size_t)o->ngroups : (size_t)o->ngroups * o->wg;
     o->substep_ncomp = f->rotation == SPH_ROTATION_AVERAGED ? 1 + f->nbodies * f->dim * f->dim : 1;
 
     st = check_device_memory(be, o, device_index,
@@ -804,6 +894,10 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
 
     sph_features_build_options(f, (int)o->wg, (int)o->sort_wg, o->row_major, o->pair_recompute,
                                be->build_options, sizeof be->build_options);
+    const size_t used = strlen(be->build_options);
+    snprintf(be->build_options + used, sizeof be->build_options - used,
+             " -DSPH_STEP_CLOCK=%d -DSPH_REDUCE_BLOCKS=%d", o->device_clock ? 1 : 0,
+             o->reduce_blocks ? 1 : 0);
     if (!quiet) fprintf(stderr, "sphsolid: OpenCL build options: %s\n", be->build_options);
     const char *files[] = {"neighbour_build.cl", "acoustic_step.cl", "tl_step.cl", "reduction.cl",
                            "monitor.cl"};
@@ -833,6 +927,8 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
         st = make_buffer(be, o, "substep_sums", SUBSTEP_SUMS_LEN * o->real_size, &o->substep_sums,
                          err);
     if (!st) st = make_buffer(be, o, "overflow", sizeof(cl_int), &o->overflow, err);
+    if (!st && o->device_clock)
+        st = make_buffer(be, o, "step_clock", SPH_CLOCK_LEN * sizeof(double), &o->step_clock, err);
     if (!st && o->pair_recompute)
         st = make_buffer(be, o, "pair_pos",
                          (size_t)n * (size_t)f->dim * sph_field_element_size(FIELD_TYPE_HREAL, f),

@@ -4,6 +4,7 @@
  *                      [--precision double|single|mixed] [--out DIR] [--quiet] [--profile]
  *                      [--checkpoint-every T] [--checkpoint-wall S] [--progress-interval S]
  *                      [--plot] [--pair-geometry auto|stored|recomputed]
+ *                      [--step-clock auto|device|host]
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
  *   sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]
@@ -38,6 +39,7 @@ static void usage(FILE *f) {
         "                          [--checkpoint-every T] [--checkpoint-wall S]\n"
         "                          [--progress-interval S] [--plot]\n"
         "                          [--pair-geometry auto|stored|recomputed]\n"
+        "                          [--step-clock auto|device|host]\n"
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
         "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
         "       sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]\n"
@@ -62,6 +64,10 @@ static void usage(FILE *f) {
         "          per-pair arrays (stored) or recompute it (recomputed); auto (default):\n"
         "          recomputed on GPUs, stored on CPU devices (docs/benchmarks.md);\n"
         "          TLSPH always stores its reference geometry\n"
+        "--step-clock  OpenCL: who sizes the acoustic substeps: the device (auto, where it\n"
+        "          has double precision), enqueuing an advection step's substeps without a\n"
+        "          read after each, or the host, reading max |v| after every substep;\n"
+        "          both give the same steps\n"
         "relax     relax the particles of the bodies with placement = \"relaxed\" ahead of a\n"
         "          run, save them to their relaxation.file and print the residuals;\n"
         "          --out FILE saves the one relaxed body to FILE, --force relaxes even\n"
@@ -112,9 +118,9 @@ static int cmd_run(int argc, char **argv) {
         const char *value = k + 1 < argc ? argv[k + 1] : NULL;
         if (strcmp(a, "--set") == 0 || strcmp(a, "--backend") == 0 || strcmp(a, "--device") == 0 ||
             strcmp(a, "--precision") == 0 || strcmp(a, "--out") == 0 ||
-            strcmp(a, "--pair-geometry") == 0 || strcmp(a, "--restart") == 0 ||
-            strcmp(a, "--checkpoint-every") == 0 || strcmp(a, "--checkpoint-wall") == 0 ||
-            strcmp(a, "--progress-interval") == 0) {
+            strcmp(a, "--pair-geometry") == 0 || strcmp(a, "--step-clock") == 0 ||
+            strcmp(a, "--restart") == 0 || strcmp(a, "--checkpoint-every") == 0 ||
+            strcmp(a, "--checkpoint-wall") == 0 || strcmp(a, "--progress-interval") == 0) {
             if (!value) {
                 free(overrides);
                 return input_error("%s needs a value", a);
@@ -159,6 +165,17 @@ static int cmd_run(int argc, char **argv) {
                 free(overrides);
                 return input_error("--pair-geometry %s: expected auto, stored or recomputed",
                                    value);
+            }
+        } else if (strcmp(a, "--step-clock") == 0) {
+            if (strcmp(value, "auto") == 0)
+                opt.backend.step_clock = SPH_STEP_CLOCK_AUTO;
+            else if (strcmp(value, "device") == 0)
+                opt.backend.step_clock = SPH_STEP_CLOCK_DEVICE;
+            else if (strcmp(value, "host") == 0)
+                opt.backend.step_clock = SPH_STEP_CLOCK_HOST;
+            else {
+                free(overrides);
+                return input_error("--step-clock %s: expected auto, device or host", value);
             }
         } else if (strcmp(a, "--out") == 0) {
             out_dir = value;

@@ -4,6 +4,7 @@
 #include "progress.h"
 #include "sph_constants.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -330,26 +331,41 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             const double speed = fmax(fmax(sqrt(info.max_speed2), sqrt(accel_term)), u_ref);
             if (speed > 0.0) t_adv_end = t + sc->cfl_advection * h / speed;
         }
+        /* its substeps, under the step clock (device/sph_step_clock.h),
+         * which the backend may advance on the device */
+        double clock[SPH_CLOCK_LEN] = {0};
+        clock[CLOCK_T] = t;
+        clock[CLOCK_MAX_SPEED2] = max_speed2;
+        clock[CLOCK_T_ADV_END] = t_adv_end;
+        clock[CLOCK_NEXT_OUTPUT] = next_output;
+        clock[CLOCK_CFL_H] = sc->cfl_acoustic * h;
+        clock[CLOCK_C0] = c0;
+        clock[CLOCK_ONE_SUBSTEP] = !dual || total_lagrangian;
+        step_clock_plan(clock);
         bool at_output = false;
         for (;;) {
-            double dt = sc->cfl_acoustic * h / (c0 + sqrt(max_speed2));
-            /* land exactly on the output time (and never step past it) */
-            if (t + dt >= next_output * (1.0 - 1e-12)) {
-                dt = next_output - t;
-                at_output = true;
-            }
-            st = be->ops->substep(be, dt, &max_speed2, err);
+            clock[CLOCK_SPEED_LIMIT] =
+                sc->monitor_action != SPH_MONITOR_OFF && isnan(stats->instability_time)
+                    ? speed_limit
+                    : INFINITY;
+            clock[CLOCK_COUNT] = 0.0;
+            const long limit = a->max_acoustic_steps > 0
+                                   ? a->max_acoustic_steps - (stats->acoustic_steps - start_steps)
+                                   : LONG_MAX;
+            st = sph_backend_advance(be, clock, limit, err);
             if (st) break;
-            t = at_output ? next_output : t + dt;
-            stats->acoustic_steps++;
+            t = clock[CLOCK_T];
+            max_speed2 = clock[CLOCK_MAX_SPEED2];
+            at_output = clock[CLOCK_ON_OUTPUT] != 0.0;
+            stats->acoustic_steps += (long)clock[CLOCK_COUNT];
             /* checked at every substep, from its own reduction: a blow-up
              * shrinks the acoustic step with the growing speed, so it might
              * never reach the next output time and the monitor there */
-            if (!isfinite(max_speed2))
+            const int halted = (int)clock[CLOCK_HALTED];
+            if (halted == CLOCK_NONFINITE)
                 st = trip(a, SPH_TRIP_NONFINITE, t, "non-finite state", NAN, NAN, domain, stats,
                           err);
-            else if (sc->monitor_action != SPH_MONITOR_OFF && isnan(stats->instability_time) &&
-                     sqrt(max_speed2) > speed_limit)
+            else if (halted == CLOCK_TOO_FAST)
                 st = trip(a, SPH_TRIP_SPEED, t, "maximum speed / (c0 + initial speed)",
                           sqrt(max_speed2) / (c0 + u_ref), sc->monitor_speed_limit, domain, stats,
                           err);
@@ -372,7 +388,10 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                 stop = true;
                 break;
             }
-            if (at_output || !dual || total_lagrangian || t >= t_adv_end) break;
+            if (clock[CLOCK_STEP_ENDED] != 0.0) break;
+            /* a speed warning that let the run go on: the rest of the step */
+            clock[CLOCK_HALTED] = CLOCK_RUNNING;
+            step_clock_plan(clock);
         }
         if (st) break;
         stats->advection_steps++;

@@ -64,7 +64,7 @@ def pending_3d(ratios_run):
 GROUP_REBUILD, GROUP_SUBSTEP, GROUP_REDUCE, GROUP_OTHER = (
     "rebuild", "acoustic substep", "reductions", "host and output (remainder)")
 REDUCTION_PHASES = {"rebuild_reduce", "substep_reduce", "diagnostics_reduce", "monitor_reduce",
-                    "reduce_finalize"}
+                    "reduce_finalize", "substep_finalize"}
 SUBSTEP_PHASES = {"acoustic substep", "acoustic_contact", "acoustic_pressure",
                   "acoustic_velocity_terms", "acoustic_shear_force", "tl_deformation",
                   "tl_acceleration", "tl_update"}
@@ -94,7 +94,7 @@ WRITE_ONLY = {
     "tl_deformation": {"defgrad", "pk1", "rho", "tau"}, "tl_acceleration": {"acc_shear"},
     "rebuild_reduce": {"vol", "partials"}, "substep_reduce": {"partials"},
     "diagnostics_reduce": {"partials"}, "monitor_reduce": {"partials"},
-    "reduce_finalize": {"result"},
+    "reduce_finalize": {"result"}, "substep_finalize": {"result"},
 }
 # Arguments a kernel does not touch with averaged rotation (003 eq. 42: the increment waits
 # in dacc_shear; a^s is rotated in acoustic_pressure).
