@@ -78,6 +78,13 @@ static void usage(FILE *f) {
         "             4 stopped by the instability monitor (results kept)\n");
 }
 
+/* The index of `value` in the NULL-terminated list `names`, or -1. */
+static int choice_index(const char *value, const char *const *names) {
+    for (int k = 0; names[k]; ++k)
+        if (strcmp(value, names[k]) == 0) return k;
+    return -1;
+}
+
 static int input_error(const char *fmt, const char *arg) {
     fprintf(stderr, "sphsolid: ");
     fprintf(stderr, fmt, arg);
@@ -154,29 +161,23 @@ static int cmd_run(int argc, char **argv) {
                 free(overrides);
                 return input_error("--precision %s: expected double, single or mixed", value);
             }
-        } else if (strcmp(a, "--pair-geometry") == 0) {
-            if (strcmp(value, "auto") == 0)
-                opt.backend.pair_geometry = SPH_PAIR_GEOMETRY_AUTO;
-            else if (strcmp(value, "stored") == 0)
-                opt.backend.pair_geometry = SPH_PAIR_GEOMETRY_STORED;
-            else if (strcmp(value, "recomputed") == 0)
-                opt.backend.pair_geometry = SPH_PAIR_GEOMETRY_RECOMPUTED;
-            else {
+        } else if (strcmp(a, "--pair-geometry") == 0 || strcmp(a, "--step-clock") == 0) {
+            /* in the order of sph_pair_geometry and sph_step_clock_mode */
+            static const char *const geometry_names[] = {"auto", "stored", "recomputed", NULL};
+            static const char *const clock_names[] = {"auto", "device", "host", NULL};
+            const bool geometry = strcmp(a, "--pair-geometry") == 0;
+            const int choice = choice_index(value, geometry ? geometry_names : clock_names);
+            if (choice < 0) {
                 free(overrides);
-                return input_error("--pair-geometry %s: expected auto, stored or recomputed",
+                return input_error(geometry
+                                       ? "--pair-geometry %s: expected auto, stored or recomputed"
+                                       : "--step-clock %s: expected auto, device or host",
                                    value);
             }
-        } else if (strcmp(a, "--step-clock") == 0) {
-            if (strcmp(value, "auto") == 0)
-                opt.backend.step_clock = SPH_STEP_CLOCK_AUTO;
-            else if (strcmp(value, "device") == 0)
-                opt.backend.step_clock = SPH_STEP_CLOCK_DEVICE;
-            else if (strcmp(value, "host") == 0)
-                opt.backend.step_clock = SPH_STEP_CLOCK_HOST;
-            else {
-                free(overrides);
-                return input_error("--step-clock %s: expected auto, device or host", value);
-            }
+            if (geometry)
+                opt.backend.pair_geometry = (sph_pair_geometry)choice;
+            else
+                opt.backend.step_clock = (sph_step_clock_mode)choice;
         } else if (strcmp(a, "--out") == 0) {
             out_dir = value;
         } else if (strcmp(a, "--restart") == 0) {

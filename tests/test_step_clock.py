@@ -27,7 +27,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import BIN, PLATE, SRC, check, finish  # noqa: E402
+from sphtest import BIN, PLATE, SRC, check, finish, run_sphsolid  # noqa: E402
 
 RINGS = os.path.join(SRC, "cases", "colliding_rings_2d", "scene.cfg")
 tmp = tempfile.mkdtemp(prefix="sphsolid-clock-")
@@ -35,12 +35,9 @@ tmp = tempfile.mkdtemp(prefix="sphsolid-clock-")
 
 def run(name, scene, mode, sets, options=()):
     out = os.path.join(tmp, f"{name}-{mode}")
-    cmd = [BIN, "run", scene, "--backend", "opencl", "--quiet", "--out", out,
-           "--step-clock", mode] + list(options)
-    for s in sets:
-        cmd += ["--set", s]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
-    return out, p.returncode, p.stderr.strip()
+    code, err = run_sphsolid(scene, "opencl", out, sets,
+                             options=["--step-clock", mode] + list(options))
+    return out, code, err
 
 
 def summary(out):
