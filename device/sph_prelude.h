@@ -30,6 +30,9 @@
  *                    read dt from the step clock (sph_step_clock.h) that
  *                    the previous substep planned on the device; 0: dt is a
  *                    kernel argument set by the host
+ *   SPH_REDUCE_BLOCKS 1 (OpenCL, CPU devices): each work-item of a reduction's
+ *                    first stage sums a block of SPH_WG particles, without
+ *                    barriers (reduction.cl); 0: a tree over the work-group
  */
 #ifndef SPH_PRELUDE_H
 #define SPH_PRELUDE_H
