@@ -17,7 +17,9 @@ substep per advection step), single precision (a float program reading a
 double clock), single-criterion stepping, two colliding bodies (the contact
 pass), a blow-up the monitor stops at a substep between outputs (the
 device halts the clock there), and the same blow-up with monitor.action =
-"report", which goes on past the warning to the end time.
+"report", which goes on past the warning to the end time.  And the point of
+it: with --profile, the host waits once per advection step instead of once
+per substep.
 """
 import json
 import os
@@ -102,6 +104,27 @@ try:
         ins = dev.get("instability", {})
         check(ins.get("stopped") is False and ins.get("time", 1) < 0.01,
               f"blowup-report: reported and gone on: {ins}")
+
+    # the host's waits inside the acoustic loop, counted by --profile: one
+    # read of the clock per advection step with the device clock (measured on
+    # this plate, H/dp = 10 to 0.05 s: 262 reads for 262 advection steps; a
+    # mispredicted step length costs one more), one read of max |v| per
+    # substep with the host clock (2852)
+    reads = {}
+    for mode, phase in (("device", "step clock read"), ("host", "max speed read")):
+        out, code, err = run("profile", PLATE, mode, ["time.end=0.05"], options=["--profile"])
+        check(code == 0, f"profile ({mode} clock): exit {code} ({err})")
+        if code == 0:
+            s = summary(out)
+            calls = [p["calls"] for p in s["profile"] if p["phase"] == phase]
+            reads[mode] = (calls[0] if calls else 0, s["advection_steps"], s["acoustic_steps"])
+    if len(reads) == 2:
+        (dev_reads, adv, _), (host_reads, _, acoustic) = reads["device"], reads["host"]
+        check(adv <= dev_reads <= 1.1 * adv,
+              f"device clock: {dev_reads} reads for {adv} advection steps")
+        check(host_reads == acoustic, f"host clock: {host_reads} reads for {acoustic} substeps")
+        print(f"host reads: {dev_reads} with the device clock ({adv} advection steps), "
+              f"{host_reads} with the host clock ({acoustic} substeps)")
 
     # a bad value names the flag
     p = subprocess.run([BIN, "run", PLATE, "--step-clock", "gpu"], capture_output=True, text=True,

@@ -64,7 +64,7 @@ def pending_3d(ratios_run):
 GROUP_REBUILD, GROUP_SUBSTEP, GROUP_REDUCE, GROUP_OTHER = (
     "rebuild", "acoustic substep", "reductions", "host and output (remainder)")
 REDUCTION_PHASES = {"rebuild_reduce", "substep_reduce", "diagnostics_reduce", "monitor_reduce",
-                    "reduce_finalize", "substep_finalize"}
+                    "reduce_finalize", "substep_finalize", "step clock read", "max speed read"}
 SUBSTEP_PHASES = {"acoustic substep", "acoustic_contact", "acoustic_pressure",
                   "acoustic_velocity_terms", "acoustic_shear_force", "tl_deformation",
                   "tl_acceleration", "tl_update"}
