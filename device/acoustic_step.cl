@@ -166,7 +166,8 @@ KERNEL void acoustic_pressure(
     const real p_i = half_step_pressure(prm, rho[i], drho[i], half_dt);
 
     /* sum of riemann_pressure_pair, e_ij (-(p_i + p_j) dW V_j), in
-     * SPH_PAIR_LANES lanes (sph_prelude.h; see acoustic_velocity_terms) */
+     * SPH_PAIR_LANES lanes (sph_prelude.h; see acoustic_velocity_terms) with
+     * its factor, RIEMANN_PRESSURE_FACTOR (sph_riemann.h) */
     lanes lane_sum[SPH_DIM];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] = lanes_zero();
     const int count = nbr_count[i];
@@ -190,7 +191,7 @@ KERNEL void acoustic_pressure(
                 LANE(p_j, l) = half_step_pressure(prm, rho[j], drho[j], half_dt);
                 lane_set_geometry(PAIR_DIR(slot, j), k0 + l < count, l, e, &dwv, 0);
             }
-        const lanes f = -(p_i + p_j) * dwv;
+        const lanes f = RIEMANN_PRESSURE_FACTOR(p_i, p_j, dwv);
         UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] += e[a] * f;
     }
     vec sum = vec_zero();
@@ -306,9 +307,10 @@ KERNEL void acoustic_velocity_terms(
             }
         lanes u = lanes_zero();
         UNROLL for (int a = 0; a < SPH_DIM; ++a) u += v_ij[a] * e[a];
-        const lanes u_dwv = u * dwv;
+        const lanes u_dwv = RIEMANN_CONTINUITY_FACTOR(u, dwv);
         lane_div += u_dwv;
-        /* beta = 1 unless the scene limits the dissipation */
+        /* riemann_dissipation_factor: u dW V_j itself (beta = 1) unless the
+         * scene limits the dissipation */
         lanes diss = u_dwv;
         if (limited)
             UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) LANE(diss, l) =

@@ -194,9 +194,12 @@ KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restri
  * (the native backend, and OpenCL CPU devices, which take the row-major
  * neighbour layout), where the test is cheap and its branch mispredicted;
  * 1 (a test and a branch per candidate) on GPUs, where an indexed private
- * array would live in memory.  H/dp = 10 plate, native: the rebuild 1.05 s
- * per run with one candidate at a time, 0.94 s with batches; pocl to
- * t = 0.3 s, 0.59 s against 0.37 s. */
+ * array would live in memory.  H/dp = 10 plate to t = 1 s, native: the
+ * rebuild 1.12-1.15 s per run with one candidate at a time, 1.04-1.05 s
+ * with batches; pocl to t = 0.3 s, 0.46-0.47 s against 0.37-0.40 s
+ * (docs/benchmarks.md).  An accepted candidate's offset is computed again
+ * rather than stored in the test for every candidate, a third of which are
+ * accepted. */
 #ifndef SPH_BUILD_BATCH
 #    if SPH_OPENCL && !SPH_NBR_ROW_MAJOR
 #        define SPH_BUILD_BATCH 1

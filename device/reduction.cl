@@ -32,6 +32,23 @@ FN void reduce_combine(real *acc, const real *c, const int nmax, const int ncomp
     for (int k = 0; k < ncomp; ++k) acc[k] = k < nmax ? fmax(acc[k], c[k]) : acc[k] + c[k];
 }
 
+/* Block g of SPH_WG particles: CONTRIB (which writes particle i's
+ * contribution into c) combined in particle order, stored as row g of
+ * partials.  The native backend's reductions and, on OpenCL CPU devices,
+ * one work-item's share (SPH_REDUCE_BLOCKS); the rows are then combined in
+ * order. */
+#define REDUCE_BLOCK(g, n, NMAX, NCOMP, NCOMP_MAX, partials, CONTRIB)                              \
+    do {                                                                                           \
+        real acc_[NCOMP_MAX], c[NCOMP_MAX];                                                        \
+        reduce_identity(acc_, (NMAX), (NCOMP));                                                    \
+        const int end_ = ((g) + 1) * SPH_WG < (n) ? ((g) + 1) * SPH_WG : (n);                      \
+        for (int i = (g)*SPH_WG; i < end_; ++i) {                                                  \
+            CONTRIB;                                                                               \
+            reduce_combine(acc_, c, (NMAX), (NCOMP));                                              \
+        }                                                                                          \
+        for (int k_ = 0; k_ < (NCOMP); ++k_) (partials)[(g) * (NCOMP) + k_] = acc_[k_];            \
+    } while (0)
+
 /* Components: -min x (d), max x (d), max |v|^2, max 4 h |a| (all by max).
  * The acceleration of the advection criterion is the dissipation plus the
  * external acceleration: what the reference code's force array holds at the
@@ -133,16 +150,9 @@ FN void group_reduce_store(__local real *scratch, const real *c, const int nmax,
 #        define REDUCE_SCRATCH
 #        define REDUCE_PARTICLES(NMAX, NCOMP, NCOMP_MAX, CONTRIB)                                  \
             do {                                                                                   \
-                real acc_[NCOMP_MAX], c[NCOMP_MAX];                                                \
-                reduce_identity(acc_, (NMAX), (NCOMP));                                            \
                 const int g_ = get_global_id(0);                                                   \
-                const int end_ = min(n, (g_ + 1) * SPH_WG);                                        \
-                for (int i = g_ * SPH_WG; i < end_; ++i) {                                         \
-                    CONTRIB;                                                                       \
-                    reduce_combine(acc_, c, (NMAX), (NCOMP));                                      \
-                }                                                                                  \
                 if (g_ * SPH_WG < n)                                                               \
-                    for (int k_ = 0; k_ < (NCOMP); ++k_) partials[g_ * (NCOMP) + k_] = acc_[k_];   \
+                    REDUCE_BLOCK(g_, n, NMAX, NCOMP, NCOMP_MAX, partials, CONTRIB);                \
             } while (0)
 #    else
 /* GPUs: one particle per work-item, combined over the group by a tree. */

@@ -40,8 +40,13 @@ FN real riemann_limiter(const real u, const real c, const real slope) {
  * The constants are applied once per particle, outside the neighbour loop.
  * The momentum terms are antisymmetric under i <-> j (p_i + p_j and u_ij are
  * symmetric, e_ij flips), so the sum over all pairs of m_i a_i vanishes. */
+/* The scalar factors of the pressure and continuity terms, for one pair or
+ * for lanes of pairs (sph_prelude.h): the acoustic passes sum them in lanes,
+ * the pair functions below wrap them. */
+#define RIEMANN_PRESSURE_FACTOR(p_i, p_j, dwv) (-((p_i) + (p_j)) * (dwv))
+#define RIEMANN_CONTINUITY_FACTOR(u_ij, dwv)   ((u_ij) * (dwv))
 FN vec riemann_pressure_pair(const real p_i, const real p_j, const real dwv, const vec e_ij) {
-    return vec_scale(e_ij, -(p_i + p_j) * dwv);
+    return vec_scale(e_ij, RIEMANN_PRESSURE_FACTOR(p_i, p_j, dwv));
 }
 FN real riemann_dissipation_factor(const real u_ij, const real c0, const real limiter_slope,
                                    const real dwv) {
@@ -52,7 +57,7 @@ FN vec riemann_dissipation_pair(const real u_ij, const real c0, const real limit
     return vec_scale(e_ij, riemann_dissipation_factor(u_ij, c0, limiter_slope, dwv));
 }
 FN real riemann_continuity_pair(const real u_ij, const real dwv) {
-    return u_ij * dwv;
+    return RIEMANN_CONTINUITY_FACTOR(u_ij, dwv);
 }
 
 #endif

@@ -18,6 +18,11 @@
 #ifndef SPH_STEP_CLOCK_H
 #define SPH_STEP_CLOCK_H
 
+#ifndef __OPENCL_VERSION__
+#    include <math.h>
+#    include <stdbool.h>
+#endif
+
 #define CLOCK_T           0  /* time after the last substep */
 #define CLOCK_DT          1  /* size of the next substep */
 #define CLOCK_AT_OUTPUT   2  /* 1: the next substep lands on the output time */

@@ -17,7 +17,6 @@
 #include "particles.h"
 #include "sph_constants.h"
 
-#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>

@@ -27,17 +27,8 @@
         real *partials_ = (real *)(b)->partials;                                                   \
         const int n_ = (b)->n;                                                                     \
         const int ngroups_ = (n_ + SPH_WG - 1) / SPH_WG;                                           \
-        _Pragma("omp for schedule(static)") for (int g_ = 0; g_ < ngroups_; ++g_) {                \
-            real acc_[BLOCK_NCOMP_MAX];                                                            \
-            real c_[BLOCK_NCOMP_MAX];                                                              \
-            reduce_identity(acc_, (nmax), (ncomp));                                                \
-            const int end_ = (g_ + 1) * SPH_WG < n_ ? (g_ + 1) * SPH_WG : n_;                      \
-            for (int i = g_ * SPH_WG; i < end_; ++i) {                                             \
-                CONTRIB;                                                                           \
-                reduce_combine(acc_, c_, (nmax), (ncomp));                                         \
-            }                                                                                      \
-            for (int k_ = 0; k_ < (ncomp); ++k_) partials_[g_ * (ncomp) + k_] = acc_[k_];          \
-        }                                                                                          \
+        _Pragma("omp for schedule(static)") for (int g_ = 0; g_ < ngroups_; ++g_)                  \
+            REDUCE_BLOCK(g_, n_, (nmax), (ncomp), BLOCK_NCOMP_MAX, partials_, CONTRIB);            \
         _Pragma("omp single") {                                                                    \
             reduce_identity((result), (nmax), (ncomp));                                            \
             for (int g_ = 0; g_ < ngroups_; ++g_)                                                  \
@@ -57,7 +48,7 @@ static void rebuild_reduce_impl(cpu_buffers *b, double *out) {
     BLOCK_REDUCE(b, REBUILD_NCOMP, REBUILD_NCOMP, result,
                  rebuild_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                                  F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
-                                 F_REAL(b, FIELD_ACC_DISS), c_));
+                                 F_REAL(b, FIELD_ACC_DISS), c));
     for (int k = 0; k < REBUILD_NCOMP; ++k) out[k] = (double)result[k];
 }
 
@@ -121,19 +112,13 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                             F_REAL(b, FIELD_PK1), F_HREAL(b, FIELD_ACC_SHEAR),
                             (const real *)b->pair_w, F_REAL(b, FIELD_PLASTIC_STRAIN));
 #pragma omp for schedule(static)
-        for (int g = 0; g < ngroups; ++g) {
-            const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;
-            real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
-            reduce_identity(acc, 1, ncomp);
-            for (int i = g * SPH_WG; i < end; ++i) {
-                tl_update(i, n, dt, prm, F_HREAL(b, FIELD_ACC_SHEAR), F_HREAL(b, FIELD_POS),
-                          F_REAL(b, FIELD_VEL), F_U8(b, FIELD_FIXED));
-                substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
-                                F_U8(b, FIELD_BODY), c);
-                reduce_combine(acc, c, 1, ncomp);
-            }
-            for (int k = 0; k < ncomp; ++k) partials[g * ncomp + k] = acc[k];
-        }
+        for (int g = 0; g < ngroups; ++g)
+            REDUCE_BLOCK(
+                g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
+                (tl_update(i, n, dt, prm, F_HREAL(b, FIELD_ACC_SHEAR), F_HREAL(b, FIELD_POS),
+                           F_REAL(b, FIELD_VEL), F_U8(b, FIELD_FIXED)),
+                 substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
+                                 F_U8(b, FIELD_BODY), c)));
     }
     reduce_identity(sums, 1, ncomp);
     for (int g = 0; g < ngroups; ++g) reduce_combine(sums, partials + g * ncomp, 1, ncomp);
@@ -193,17 +178,10 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                 F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE),
                 F_HREAL(b, FIELD_POS));
 #pragma omp for schedule(static)
-        for (int g = 0; g < ngroups; ++g) {
-            const int end = (g + 1) * SPH_WG < n ? (g + 1) * SPH_WG : n;
-            real acc[SUBSTEP_NCOMP_MAX], c[SUBSTEP_NCOMP_MAX];
-            reduce_identity(acc, 1, ncomp);
-            for (int i = g * SPH_WG; i < end; ++i) {
-                substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
-                                F_U8(b, FIELD_BODY), c);
-                reduce_combine(acc, c, 1, ncomp);
-            }
-            for (int k = 0; k < ncomp; ++k) partials[g * ncomp + k] = acc[k];
-        }
+        for (int g = 0; g < ngroups; ++g)
+            REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
+                         substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
+                                         F_U8(b, FIELD_BODY), c));
         /* third pass of the stress-divergence formulations: reads the tau
          * and L of the neighbours written above */
         if (stress_div) {
@@ -230,7 +208,7 @@ static void diagnostics_impl(cpu_buffers *b, double *out) {
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
                  diagnostics_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                                      F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO),
-                                     F_HREAL(b, FIELD_TAU), c_));
+                                     F_HREAL(b, FIELD_TAU), c));
     for (int k = 0; k < DIAG_NCOMP; ++k) out[k] = (double)result[k];
 }
 
@@ -353,7 +331,7 @@ static void monitor_impl(cpu_buffers *b, double *out) {
     BLOCK_REDUCE(b, MONITOR_NCOMP, MONITOR_NCOMP, result,
                  monitor_contrib(i, n_, cap, prm, b->nbr_count, b->nbr_j, F_HREAL(b, FIELD_POS),
                                  F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT),
-                                 c_));
+                                 c));
     for (int k = 0; k < MONITOR_NCOMP; ++k) out[k] = (double)result[k];
 }
 

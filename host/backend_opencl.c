@@ -12,12 +12,12 @@
 #include "backend.h"
 #include "grid.h"
 #include "opencl_runtime.h"
+#include "wall_clock.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #define SUBSTEP_SUMS_LEN  SPH_CARRIED_LEN
 #define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
@@ -514,13 +514,6 @@ static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_err
 
 static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_error *err);
 
-/* Seconds of the host's monotonic clock (profiling the host's reads). */
-static double host_seconds(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* One substep of size dt, then max |v|^2 read back: with the host step
  * clock (devices without double precision, or --step-clock host) dt is the
  * kernels' argument; with the device clock it goes in a clock set up for a
@@ -542,9 +535,9 @@ static sph_status ocl_substep(sph_backend *be, double dt, double *max_speed2, sp
     const sph_cl_arg dt_arg = real_arg(o, "dt", &dt_s, dt);
     sph_status st = enqueue_substep(o, &dt_arg, err);
     if (!st) st = finalize(o, 1, o->substep_ncomp, o->substep_sums, err);
-    const double t0 = be->profiling ? host_seconds() : 0.0;
+    const double t0 = be->profiling ? sph_wall_seconds() : 0.0;
     if (!st) st = read_reals(o, o->substep_sums, 0, 1, max_speed2, err);
-    if (be->profiling) sph_backend_profile_add(be, "max speed read", host_seconds() - t0);
+    if (be->profiling) sph_backend_profile_add(be, "max speed read", sph_wall_seconds() - t0);
     return st;
 }
 
@@ -584,14 +577,14 @@ static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_er
             st = enqueue_substep(o, NULL, err);
             if (!st) st = launch(o, &o->k.substep_finalize, o->wg, o->wg, args, 3, err);
         }
-        const double t0 = be->profiling ? host_seconds() : 0.0;
+        const double t0 = be->profiling ? sph_wall_seconds() : 0.0;
         if (!st)
             st = cl_check(clEnqueueReadBuffer(o->queue, o->step_clock, CL_TRUE, 0, bytes, clock, 0,
                                               NULL, NULL),
                           "reading the step clock", err);
         /* the host's only wait inside the acoustic loop: its count in the
          * profile is the number of host synchronisations */
-        if (be->profiling) sph_backend_profile_add(be, "step clock read", host_seconds() - t0);
+        if (be->profiling) sph_backend_profile_add(be, "step clock read", sph_wall_seconds() - t0);
     }
     if (st) clFinish(o->queue); /* the write may still read `clock` */
     return st;

@@ -7,6 +7,7 @@
 #include "hdf5_file.h"
 #include "sph_constants.h"
 #include "shape_sdf.h"
+#include "wall_clock.h"
 
 #include <inttypes.h>
 #include <math.h>
@@ -14,7 +15,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #define FILE_FORMAT  "sphsolid relaxed particles"
@@ -463,15 +463,9 @@ static uint64_t splitmix64(uint64_t x) {
     return x ^ (x >> 31);
 }
 
-static double now_seconds(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 sph_status sph_relax_positions(const sph_scene *scene, int body, int n, double *pos,
                                sph_relax_report *rep, sph_error *err) {
-    const double t0 = now_seconds();
+    const double t0 = sph_wall_seconds();
     const sph_relaxation *rx = &scene->bodies[body].relaxation;
     relax_state s;
     sph_status st = state_init(&s, scene, body, n, err);
@@ -534,7 +528,7 @@ sph_status sph_relax_positions(const sph_scene *scene, int body, int n, double *
         }
     }
     rep->steps = step;
-    rep->seconds = now_seconds() - t0;
+    rep->seconds = sph_wall_seconds() - t0;
 done:
     state_free(&s);
     return st;

@@ -4,22 +4,16 @@
 #include "checkpoint.h"
 #include "output.h"
 #include "snapshot.h"
+#include "wall_clock.h"
 
 #include <json-c/json.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <errno.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-static double now_seconds(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* A restart's scene: the resolved text stored in the checkpoint, with the
  * overrides a continuation may change (a later end time, other output). */
@@ -55,7 +49,7 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
     memset(sim, 0, sizeof *sim);
     sim->options = *opt;
     sim->restart_time = NAN;
-    const double t0 = now_seconds();
+    const double t0 = sph_wall_seconds();
     sph_status st;
     if (opt->restart_dir) {
         st = restart_scene(opt, &sim->scene, err);
@@ -84,7 +78,7 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
     if (!opt->quiet)
         fprintf(stderr, "sphsolid: backend %s on %s: %s\n", sim->backend->kind_name,
                 sim->backend->device_name, sim->backend->choice_reason);
-    sim->setup_seconds = now_seconds() - t0;
+    sim->setup_seconds = sph_wall_seconds() - t0;
     return SPH_OK;
 }
 

@@ -3,19 +3,13 @@
 #include "instability.h"
 #include "progress.h"
 #include "sph_constants.h"
+#include "wall_clock.h"
 
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-static double now_seconds(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 typedef struct {
     double *pos;
@@ -274,7 +268,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     stats->reference_speed = u_ref;
     const double speed_limit = sc->monitor_speed_limit * (c0 + u_ref);
 
-    const double t0 = now_seconds();
+    const double t0 = sph_wall_seconds();
     sph_rebuild_info info;
     double t = 0.0, max_speed2 = 0.0;
     long output_index = 0;
@@ -414,12 +408,12 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             ++output_index;
             next_output = fmin((double)output_index * sc->output_interval, sc->end_time);
         }
-        const double wall = now_seconds();
+        const double wall = sph_wall_seconds();
         if (!st && checkpoints &&
             (t >= next_checkpoint || t >= sc->end_time ||
              (a->checkpoint_wall > 0 && wall - last_checkpoint_wall >= a->checkpoint_wall))) {
             st = checkpoint(a, t, max_speed2, output_index, stats, ts, err);
-            last_checkpoint_wall = now_seconds();
+            last_checkpoint_wall = sph_wall_seconds();
             while (next_checkpoint <= t) next_checkpoint += a->checkpoint_every;
         }
         if (!st && !stop && t < sc->end_time && !total_lagrangian) {
@@ -430,7 +424,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                             stats->advection_steps, n, false);
     }
     if (!st && !stop)
-        sph_progress_update(&progress, now_seconds(), t, sc->end_time, stats->acoustic_steps,
+        sph_progress_update(&progress, sph_wall_seconds(), t, sc->end_time, stats->acoustic_steps,
                             stats->advection_steps, n, true);
     sph_progress_finish(&progress);
     if (a->snapshots) {
@@ -441,7 +435,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             st = wst;
         }
     }
-    stats->wall_seconds = now_seconds() - t0;
+    stats->wall_seconds = sph_wall_seconds() - t0;
     stats->end_time = t;
     if (stats->wall_seconds > 0)
         stats->particle_substeps_per_second =
