@@ -1,8 +1,8 @@
 /* neighbour_build.cl — the configuration rebuild of each advection step.
  *
  * Cell sorting: every particle gets the key (cell << 32 | current index);
- * the keys are sorted (bitonic sort on the device, a stable counting sort on
- * the CPU: both give the same order), all particle fields are gathered into
+ * the keys are sorted (bitonic sort on GPUs, a stable counting sort on the
+ * CPU and on CPU devices: both give the same order), all particle fields are gathered into
  * the sorted order, cell ranges are found from the sorted keys, and each
  * particle gathers its neighbours from the 3^d surrounding cells.
  *
@@ -83,15 +83,28 @@ FN int key_cell(const ulong key) {
     return (int)(key >> 32);
 }
 
-/* Gather one field into the sorted order: dst[c][k] = src[c][perm k]; one
- * kernel per element type. */
+/* Gather fields into the sorted order, dst[c][k] = src[c][perm k], up to
+ * PERMUTE_BATCH fields of one element type per launch (slots past the last
+ * have ncomp = 0): a launch costs 5-8 us on pocl, and the ENOG-A plate has
+ * 12 real fields. */
+#define PERMUTE_BATCH 8
+#define PERMUTE_SLOT_PARAMS(type, s)                                                               \
+    , const int ncomp##s, GLOBAL const type *restrict src##s, GLOBAL type *restrict dst##s
+#define PERMUTE_SLOT(s)                                                                            \
+    for (int c = 0; c < ncomp##s; ++c) dst##s[c * n + k] = src##s[c * n + from];
 #define DEFINE_PERMUTE(name, type)                                                                 \
-    KERNEL void name(ITEM_PARAM const int n, const int ncomp, GLOBAL const ulong *restrict keys,   \
-                     GLOBAL const type *restrict src, GLOBAL type *restrict dst) {                 \
+    KERNEL void name(ITEM_PARAM const int n,                                                       \
+                     GLOBAL const ulong *restrict keys PERMUTE_SLOT_PARAMS(type, 0)                \
+                         PERMUTE_SLOT_PARAMS(type, 1) PERMUTE_SLOT_PARAMS(type, 2)                 \
+                             PERMUTE_SLOT_PARAMS(type, 3) PERMUTE_SLOT_PARAMS(type, 4)             \
+                                 PERMUTE_SLOT_PARAMS(type, 5) PERMUTE_SLOT_PARAMS(type, 6)         \
+                                     PERMUTE_SLOT_PARAMS(type, 7)) {                               \
         const int k = ITEM_ID;                                                                     \
         if (k >= n) return;                                                                        \
         const int from = key_index(keys[k]);                                                       \
-        for (int c = 0; c < ncomp; ++c) dst[c * n + k] = src[c * n + from];                        \
+        PERMUTE_SLOT(0)                                                                            \
+        PERMUTE_SLOT(1) PERMUTE_SLOT(2) PERMUTE_SLOT(3) PERMUTE_SLOT(4) PERMUTE_SLOT(5)            \
+            PERMUTE_SLOT(6) PERMUTE_SLOT(7)                                                        \
     }
 DEFINE_PERMUTE(permute_real, real)
 DEFINE_PERMUTE(permute_int, int)
@@ -99,6 +112,41 @@ DEFINE_PERMUTE(permute_u8, u8)
 #if SPH_MIXED
 /* the history fields of mixed precision (double) */
 DEFINE_PERMUTE(permute_hreal, hreal)
+#endif
+
+/* Stable counting sort of the keys by cell, which also yields the cell
+ * ranges: the same order as the bitonic sort (the key's low half is the
+ * current index, so ties stay in index order).  The native backend runs it
+ * on the host thread, CPU devices on one work-item (counting_sort): a pass
+ * over the particles, one over the cells and one to scatter, where the
+ * bitonic network made ~log2(n)^2 / 2 passes and, at n = 1612, seven launches
+ * (bitonic sort, fills, cell ranges) against one.  Empty cells get an empty
+ * range [offset, offset). */
+FN void counting_sort_by_cell(const int n, const int ncells, GLOBAL const ulong *restrict keys,
+                              GLOBAL ulong *restrict sorted, GLOBAL int *restrict cell_start,
+                              GLOBAL int *restrict cell_end) {
+    for (int cell = 0; cell < ncells; ++cell) cell_end[cell] = 0;
+    for (int i = 0; i < n; ++i) cell_end[key_cell(keys[i])]++;
+    int offset = 0;
+    for (int cell = 0; cell < ncells; ++cell) {
+        const int count = cell_end[cell];
+        cell_start[cell] = offset;
+        cell_end[cell] = offset;
+        offset += count;
+    }
+    for (int i = 0; i < n; ++i) {
+        const ulong key = keys[i];
+        sorted[cell_end[key_cell(key)]++] = key;
+    }
+}
+
+#if SPH_OPENCL && SPH_COUNTING_SORT
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void
+counting_sort(const int n, const int gx, const int gy, const int gz,
+              GLOBAL const ulong *restrict keys, GLOBAL ulong *restrict keys_sorted,
+              GLOBAL int *restrict cell_start, GLOBAL int *restrict cell_end) {
+    counting_sort_by_cell(n, gx * gy * gz, keys, keys_sorted, cell_start, cell_end);
+}
 #endif
 
 /* First and one-past-last sorted index of each occupied cell (the ranges of
@@ -318,7 +366,7 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
     sym_store(bmat, n, i, b);
 }
 
-#if SPH_OPENCL
+#if SPH_OPENCL && !SPH_COUNTING_SORT
 /* Bitonic sort of the padded key array (deterministic, no atomics).
  * bitonic_local_sort sorts every SORT_WG-sized block; for each larger merge
  * size k the host runs bitonic_global for the strides >= SORT_WG and then

@@ -211,6 +211,19 @@ diagnostics_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict
                      diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, c));
 }
 
+/* The rows combined in order by one work-item (CPU devices). */
+FN void combine_rows(const int ngroups, const int nmax, const int ncomp,
+                     GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
+    for (int k = 0; k < ncomp; ++k) {
+        real acc = k < nmax ? REAL_LOWEST : R(0);
+        for (int g = 0; g < ngroups; ++g) {
+            const real x = partials[g * ncomp + k];
+            acc = k < nmax ? fmax(acc, x) : acc + x;
+        }
+        result[k] = acc;
+    }
+}
+
 /* Second stage, one work-group: row-wise combine of `ngroups` partial rows. */
 FN void finalize_rows(__local real *scratch, const int ngroups, const int nmax, const int ncomp,
                       GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
@@ -218,15 +231,7 @@ FN void finalize_rows(__local real *scratch, const int ngroups, const int nmax, 
 #    if SPH_REDUCE_BLOCKS
     /* one work-item, the rows in order (no barriers, see REDUCE_PARTICLES) */
     (void)scratch;
-    if (lid == 0)
-        for (int k = 0; k < ncomp; ++k) {
-            real acc = k < nmax ? REAL_LOWEST : R(0);
-            for (int g = 0; g < ngroups; ++g) {
-                const real x = partials[g * ncomp + k];
-                acc = k < nmax ? fmax(acc, x) : acc + x;
-            }
-            result[k] = acc;
-        }
+    if (lid == 0) combine_rows(ngroups, nmax, ncomp, partials, result);
 #    else
     for (int k = 0; k < ncomp; ++k) {
         real acc = k < nmax ? REAL_LOWEST : R(0);
@@ -261,5 +266,34 @@ substep_finalize(const int ngroups, const int ncomp, GLOBAL const real *restrict
     finalize_rows(scratch, ngroups, 1, ncomp, partials, result);
     if (get_local_id(0) == 0) step_clock_finish(step_clock, (double)result[0]);
 }
+
+#        if SPH_REDUCE_BLOCKS
+/* CPU devices: substep_reduce and substep_finalize in one launch (a launch
+ * costs 5-8 us on pocl, against 13 us for this reduction of the H/dp = 10
+ * plate).  Each work-item reduces its block; the one that counts itself
+ * last (atomic_inc on blocks_done, after a fence on its partial row)
+ * combines the rows in order, the same sums as substep_finalize whoever
+ * does them, advances the clock and resets the counter.  The others read
+ * the clock before they count, so they never see it change mid-launch. */
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+substep_reduce_finish(const int n, const int ngroups, CONSTANT real *prm,
+                      GLOBAL const real *restrict vel, GLOBAL real *partials,
+                      GLOBAL real *restrict result, GLOBAL double *step_clock,
+                      volatile GLOBAL int *blocks_done REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS) {
+    if (step_clock[CLOCK_HALTED] != 0.0) return;
+    const real dt = (real)step_clock[CLOCK_DT];
+    const int ncomp = substep_ncomp(prm);
+    const int g = get_global_id(0);
+    if (g >= ngroups) return;
+    REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
+                 substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, c));
+    mem_fence(CLK_GLOBAL_MEM_FENCE);
+    if (atomic_inc(blocks_done) != ngroups - 1) return;
+    mem_fence(CLK_GLOBAL_MEM_FENCE);
+    *blocks_done = 0;
+    combine_rows(ngroups, 1, ncomp, partials, result);
+    step_clock_finish(step_clock, (double)result[0]);
+}
+#        endif
 #    endif
 #endif

@@ -33,6 +33,8 @@
  *   SPH_REDUCE_BLOCKS 1 (OpenCL, CPU devices): each work-item of a reduction's
  *                    first stage sums a block of SPH_WG particles, without
  *                    barriers (reduction.cl); 0: a tree over the work-group
+ *   SPH_COUNTING_SORT 1 (OpenCL, CPU devices): the cell sort is a counting
+ *                    sort on one work-item (neighbour_build.cl); 0: bitonic
  */
 #ifndef SPH_PRELUDE_H
 #define SPH_PRELUDE_H

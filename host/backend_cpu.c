@@ -143,22 +143,10 @@ static sph_status cpu_upload(sph_backend *be, const sph_particles *p, sph_error 
     return SPH_OK;
 }
 
-/* Stable counting sort of the cell keys; also yields the cell ranges. */
+/* The keys sorted by cell, and the cell ranges (counting_sort_by_cell,
+ * device/neighbour_build.cl, the sort of CPU devices too). */
 static void sort_by_cell(cpu_impl *c, long ncells) {
-    const int n = c->b.n;
-    int32_t *start = c->b.cell_start, *end = c->b.cell_end;
-    memset(end, 0, (size_t)ncells * sizeof(int32_t));
-    for (int i = 0; i < n; ++i) end[c->b.keys[i] >> 32]++;
-    int32_t offset = 0;
-    for (long cell = 0; cell < ncells; ++cell) {
-        start[cell] = offset;
-        offset += end[cell];
-        end[cell] = start[cell];
-    }
-    for (int i = 0; i < n; ++i) {
-        const uint64_t key = c->b.keys[i];
-        c->keys_sorted[end[key >> 32]++] = key;
-    }
+    c->k->sort_by_cell(&c->b, ncells, c->keys_sorted);
     uint64_t *t = c->b.keys;
     c->b.keys = c->keys_sorted;
     c->keys_sorted = t;

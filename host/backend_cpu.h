@@ -38,6 +38,9 @@ typedef struct {
     void (*rebuild_reduce)(cpu_buffers *b, double *out);
     /* keys of the cells of x + geometry_shift v (neighbour_build.cl) */
     void (*cell_keys)(cpu_buffers *b, const sph_grid *g, double geometry_shift);
+    /* stable counting sort of the keys into sorted, with the cell ranges
+     * (neighbour_build.cl: counting_sort_by_cell) */
+    void (*sort_by_cell)(const cpu_buffers *b, long ncells, uint64_t *sorted);
     /* returns the largest neighbour count when it exceeds cap, else 0 */
     /* the pair geometry at x + geometry_shift v (neighbour_build.cl) */
     int (*build_neighbours)(cpu_buffers *b, const sph_grid *g, double geometry_shift);

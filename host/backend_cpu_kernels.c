@@ -67,6 +67,10 @@ static void cell_keys_impl(cpu_buffers *b, const sph_grid *g, double geometry_sh
                   (const real *)b->grid_geom, g->dims[0], g->dims[1], g->dims[2], b->keys);
 }
 
+static void sort_by_cell_impl(const cpu_buffers *b, long ncells, uint64_t *sorted) {
+    counting_sort_by_cell(b->n, (int)ncells, b->keys, sorted, b->cell_start, b->cell_end);
+}
+
 static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g, double geometry_shift) {
     store_grid(b, g);
     const int n = b->n;
@@ -380,6 +384,7 @@ const cpu_kernels CPU_VARIANT = {
     .formulation = SPH_CPU_FORMULATION,
     .rebuild_reduce = rebuild_reduce_impl,
     .cell_keys = cell_keys_impl,
+    .sort_by_cell = sort_by_cell_impl,
     .build_neighbours = build_neighbours_impl,
     .substep = substep_impl,
     .diagnostics = diagnostics_impl,

@@ -34,6 +34,7 @@ enum {
     RES_PAIR_W,
     RES_PAIR_POS,
     RES_KEYS,
+    RES_KEYS_SORTED,
     RES_CELL_START,
     RES_CELL_END,
     RES_PRM,
@@ -42,6 +43,8 @@ enum {
     RES_SUBSTEP_SUMS,
     RES_OVERFLOW,
     RES_STEP_CLOCK,
+    RES_BLOCKS_DONE,
+    RES_NGROUPS,
     RES_N,
     RES_NPAD,
     RES_CAP,
@@ -53,10 +56,13 @@ enum {
 
 typedef struct {
     sph_cl_kernel cell_keys, permute_real, permute_hreal, permute_int, permute_u8, cell_ranges,
-        build, sort_local, merge_local, sort_global, pressure, velocity_terms, rebuild_reduce,
-        substep_reduce, diagnostics_reduce, finalize;
-    sph_cl_kernel substep_finalize; /* device step clock only */
-    sph_cl_kernel shear_force;      /* stress-divergence formulations only */
+        build, pressure, velocity_terms, rebuild_reduce, substep_reduce, diagnostics_reduce,
+        finalize;
+    sph_cl_kernel sort_local, merge_local, sort_global; /* GPUs: bitonic sort */
+    sph_cl_kernel counting_sort;                        /* CPU devices */
+    sph_cl_kernel substep_finalize;                     /* device step clock only */
+    sph_cl_kernel substep_reduce_finish;                /* device step clock on CPU devices */
+    sph_cl_kernel shear_force;                          /* stress-divergence formulations only */
     sph_cl_kernel monitor_reduce;
     sph_cl_kernel contact;                                    /* scenes with several bodies only */
     sph_cl_kernel tl_deformation, tl_acceleration, tl_update; /* TLSPH only */
@@ -75,8 +81,11 @@ typedef struct {
     cl_mem pair_pos; /* recomputed pair geometry only: shifted positions (sph_pair_geometry.h) */
     cl_mem nbr_count, nbr_j, pair_e, pair_dwv, pair_inv_r, keys, cell_start, cell_end, prm,
         grid_geom, partials, substep_sums, overflow, result;
-    cl_mem step_clock; /* device step clock only (device/sph_step_clock.h) */
+    cl_mem step_clock;  /* device step clock only (device/sph_step_clock.h) */
+    cl_mem keys_sorted; /* counting sort only */
+    cl_mem blocks_done; /* substep_reduce_finish only: blocks reduced so far */
     cl_int n, npad, cap, gx, gy, gz, ngroups;
+    double cutoff;     /* 2h as the device holds it (prm[PRM_CUTOFF] in its precision) */
     int substep_ncomp; /* components of the substep reduction (reduction.cl) */
     size_t real_size;
     size_t wg;      /* reductions (SPH_WG) */
@@ -84,6 +93,7 @@ typedef struct {
     size_t sort_wg;
     size_t reduce_items; /* work-items of the first reduction stage */
     bool reduce_blocks;  /* SPH_REDUCE_BLOCKS (reduction.cl) */
+    bool counting_sort;  /* SPH_COUNTING_SORT (neighbour_build.cl) */
     bool row_major;
     bool pair_recompute; /* device/sph_pair_geometry.h */
     bool device_clock;   /* the substeps advance the step clock themselves */
@@ -145,7 +155,7 @@ static sph_status check_device_memory(const sph_backend *be, const ocl_impl *o, 
         {"pair_pos", (1.0 - stored) * n * be->features.dim * hreal, 1},
         {"pair_w", tlsph ? slots * real : 0.0, 1},
         {"nbr_count", n * sizeof(cl_int), 1},
-        {"keys", (double)o->npad * sizeof(cl_ulong), 1},
+        {"keys", (double)o->npad * sizeof(cl_ulong), o->counting_sort ? 2 : 1},
         {"partials", (double)o->ngroups * PARTIAL_NCOMP_MAX * real, 1},
         {"cell_start", n * sizeof(cl_int), 2}, /* and cell_end */
     };
@@ -212,6 +222,7 @@ static void fill_resources(sph_backend *be, ocl_impl *o) {
     o->res[RES_PAIR_W] = (sph_cl_arg){"pair_w", sizeof(cl_mem), &o->pair_w};
     o->res[RES_PAIR_POS] = (sph_cl_arg){"pair_pos", sizeof(cl_mem), &o->pair_pos};
     o->res[RES_KEYS] = (sph_cl_arg){"keys", sizeof(cl_mem), &o->keys};
+    o->res[RES_KEYS_SORTED] = (sph_cl_arg){"keys_sorted", sizeof(cl_mem), &o->keys_sorted};
     o->res[RES_CELL_START] = (sph_cl_arg){"cell_start", sizeof(cl_mem), &o->cell_start};
     o->res[RES_CELL_END] = (sph_cl_arg){"cell_end", sizeof(cl_mem), &o->cell_end};
     o->res[RES_PRM] = (sph_cl_arg){"prm", sizeof(cl_mem), &o->prm};
@@ -220,6 +231,8 @@ static void fill_resources(sph_backend *be, ocl_impl *o) {
     o->res[RES_SUBSTEP_SUMS] = (sph_cl_arg){"substep_sums", sizeof(cl_mem), &o->substep_sums};
     o->res[RES_OVERFLOW] = (sph_cl_arg){"overflow", sizeof(cl_mem), &o->overflow};
     o->res[RES_STEP_CLOCK] = (sph_cl_arg){"step_clock", sizeof(cl_mem), &o->step_clock};
+    o->res[RES_BLOCKS_DONE] = (sph_cl_arg){"blocks_done", sizeof(cl_mem), &o->blocks_done};
+    o->res[RES_NGROUPS] = (sph_cl_arg){"ngroups", sizeof(cl_int), &o->ngroups};
     o->res[RES_N] = (sph_cl_arg){"n", sizeof(cl_int), &o->n};
     o->res[RES_NPAD] = (sph_cl_arg){"npad", sizeof(cl_int), &o->npad};
     o->res[RES_CAP] = (sph_cl_arg){"cap", sizeof(cl_int), &o->cap};
@@ -381,10 +394,26 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     if (rc == CL_SUCCESS)
         rc = clEnqueueFillBuffer(o->queue, o->substep_sums, &zero, 1, 0,
                                  SUBSTEP_SUMS_LEN * o->real_size, 0, NULL, NULL);
+    if (rc == CL_SUCCESS && o->blocks_done)
+        rc = clEnqueueFillBuffer(o->queue, o->blocks_done, &zero, 1, 0, sizeof(cl_int), 0, NULL,
+                                 NULL);
     return cl_check(rc, "uploading the particles", err);
 }
 
-static sph_status sort_keys(ocl_impl *o, sph_error *err) {
+/* The keys in cell order.  CPU devices: a counting sort on one work-item
+ * that also writes the cell ranges (neighbour_build.cl); the sorted keys
+ * become `keys`. */
+static sph_status sort_keys_counting(ocl_impl *o, sph_error *err) {
+    sph_status st = launch(o, &o->k.counting_sort, 1, 1, NULL, 0, err);
+    cl_mem t = o->keys;
+    o->keys = o->keys_sorted;
+    o->keys_sorted = t;
+    return st;
+}
+
+/* GPUs: a bitonic sort of the padded keys; the cell ranges follow
+ * (cell_ranges). */
+static sph_status sort_keys_bitonic(ocl_impl *o, sph_error *err) {
     const size_t npad = (size_t)o->npad;
     sph_status st = launch(o, &o->k.sort_local, npad, o->sort_wg, NULL, 0, err);
     for (cl_int k = (cl_int)o->sort_wg * 2; !st && k <= o->npad; k <<= 1) {
@@ -400,22 +429,56 @@ static sph_status sort_keys(ocl_impl *o, sph_error *err) {
     return st;
 }
 
+/* The fields in the sorted order: each field is gathered into its spare
+ * copy, PERMUTE_BATCH fields of one element type per launch
+ * (neighbour_build.cl), and the two swap. */
+#define PERMUTE_BATCH 8
+static sph_cl_kernel *permute_kernel(sph_backend *be, ocl_impl *o, sph_field f) {
+    const sph_field_type type = be->fields[f].type;
+    /* a history field is real unless the run is mixed (fields.h) */
+    if (type == FIELD_TYPE_HREAL && be->features.mixed_precision) return &o->k.permute_hreal;
+    return sph_field_is_real(type)    ? &o->k.permute_real
+           : type == FIELD_TYPE_INT32 ? &o->k.permute_int
+                                      : &o->k.permute_u8;
+}
+
 static sph_status permute_fields(sph_backend *be, ocl_impl *o, sph_error *err) {
+    static const char *const ncomp_name[PERMUTE_BATCH] = {"ncomp0", "ncomp1", "ncomp2", "ncomp3",
+                                                          "ncomp4", "ncomp5", "ncomp6", "ncomp7"};
+    static const char *const src_name[PERMUTE_BATCH] = {"src0", "src1", "src2", "src3",
+                                                        "src4", "src5", "src6", "src7"};
+    static const char *const dst_name[PERMUTE_BATCH] = {"dst0", "dst1", "dst2", "dst3",
+                                                        "dst4", "dst5", "dst6", "dst7"};
+    sph_cl_kernel *kinds[] = {&o->k.permute_real, &o->k.permute_hreal, &o->k.permute_int,
+                              &o->k.permute_u8};
+    for (size_t kind = 0; kind < sizeof kinds / sizeof kinds[0]; ++kind) {
+        int f = 0;
+        while (f < FIELD_COUNT) {
+            cl_int ncomp[PERMUTE_BATCH] = {0};
+            sph_cl_arg args[3 * PERMUTE_BATCH];
+            int used = 0;
+            for (; f < FIELD_COUNT && used < PERMUTE_BATCH; ++f) {
+                if (!o->field[f] || permute_kernel(be, o, (sph_field)f) != kinds[kind]) continue;
+                ncomp[used] = be->fields[f].components;
+                args[3 * used + 1] = (sph_cl_arg){src_name[used], sizeof(cl_mem), &o->field[f]};
+                args[3 * used + 2] = (sph_cl_arg){dst_name[used], sizeof(cl_mem), &o->spare[f]};
+                ++used;
+            }
+            if (used == 0) break;
+            /* empty slots: no components, any buffer */
+            for (int s = used; s < PERMUTE_BATCH; ++s) {
+                args[3 * s + 1] = (sph_cl_arg){src_name[s], sizeof(cl_mem), &o->nbr_count};
+                args[3 * s + 2] = (sph_cl_arg){dst_name[s], sizeof(cl_mem), &o->nbr_count};
+            }
+            for (int s = 0; s < PERMUTE_BATCH; ++s)
+                args[3 * s] = (sph_cl_arg){ncomp_name[s], sizeof(cl_int), &ncomp[s]};
+            sph_status st =
+                launch(o, kinds[kind], (size_t)be->n, o->item_wg, args, 3 * PERMUTE_BATCH, err);
+            if (st) return st;
+        }
+    }
     for (int f = 0; f < FIELD_COUNT; ++f) {
         if (!o->field[f]) continue;
-        cl_int ncomp = be->fields[f].components;
-        const sph_cl_arg args[] = {{"ncomp", sizeof(cl_int), &ncomp},
-                                   {"src", sizeof(cl_mem), &o->field[f]},
-                                   {"dst", sizeof(cl_mem), &o->spare[f]}};
-        const sph_field_type type = be->fields[f].type;
-        /* a history field is real unless the run is mixed (fields.h) */
-        const bool hreal_double = type == FIELD_TYPE_HREAL && be->features.mixed_precision;
-        sph_cl_kernel *k = hreal_double               ? &o->k.permute_hreal
-                           : sph_field_is_real(type)  ? &o->k.permute_real
-                           : type == FIELD_TYPE_INT32 ? &o->k.permute_int
-                                                      : &o->k.permute_u8;
-        sph_status st = launch(o, k, (size_t)be->n, o->item_wg, args, 3, err);
-        if (st) return st;
         cl_mem t = o->field[f];
         o->field[f] = o->spare[f];
         o->spare[f] = t;
@@ -435,9 +498,7 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     sph_rebuild_info_unpack(red, d, info);
 
     sph_grid grid;
-    double cutoff;
-    st = read_reals(o, o->prm, PRM_CUTOFF, 1, &cutoff, err);
-    if (!st) st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err);
+    st = sph_grid_from_bounds(d, info->lower, info->upper, o->cutoff, be->n, &grid, err);
     if (st) return st;
     if (grid.ncells > o->cells_allocated) {
         release(&o->cell_start);
@@ -456,20 +517,22 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     real_scalar shift_s;
     const sph_cl_arg shift_arg = real_arg(o, "geometry_shift", &shift_s, be->geometry_shift);
     if (!st) st = launch(o, &o->k.cell_keys, (size_t)o->npad, o->item_wg, &shift_arg, 1, err);
-    if (!st) st = sort_keys(o, err);
+    if (!st) st = o->counting_sort ? sort_keys_counting(o, err) : sort_keys_bitonic(o, err);
     if (!st) st = permute_fields(be, o, err);
     if (!st && o->pair_recompute)
         st = launch(o, &o->k.shifted_positions, (size_t)be->n, o->item_wg, &shift_arg, 1, err);
     if (st) return st;
     const cl_int zero = 0;
-    st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_start, &zero, sizeof zero, 0,
-                                      (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
-                  "clearing cell ranges", err);
-    if (!st)
-        st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_end, &zero, sizeof zero, 0,
+    if (!o->counting_sort) {
+        st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_start, &zero, sizeof zero, 0,
                                           (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
                       "clearing cell ranges", err);
-    if (!st) st = launch(o, &o->k.cell_ranges, (size_t)be->n, o->item_wg, NULL, 0, err);
+        if (!st)
+            st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_end, &zero, sizeof zero, 0,
+                                              (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
+                          "clearing cell ranges", err);
+        if (!st) st = launch(o, &o->k.cell_ranges, (size_t)be->n, o->item_wg, NULL, 0, err);
+    }
     while (!st) {
         cl_int needed = 0;
         st = cl_check(clEnqueueFillBuffer(o->queue, o->overflow, &zero, sizeof zero, 0,
@@ -508,7 +571,20 @@ static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_err
         if (!st && o->k.shear_force.kernel)
             st = launch(o, &o->k.shear_force, items, o->item_wg, dt_arg, ndt, err);
     }
-    if (!st) st = launch(o, &o->k.substep_reduce, o->reduce_items, o->wg, dt_arg, ndt, err);
+    if (st) return st;
+    /* CPU devices with the device clock: the reduction's second stage and
+     * the clock's advance come in the same launch (reduction.cl) */
+    if (!dt_arg && o->k.substep_reduce_finish.kernel) {
+        const sph_cl_arg args[] = {{"result", sizeof(cl_mem), &o->substep_sums}};
+        return launch(o, &o->k.substep_reduce_finish, o->reduce_items, o->wg, args, 1, err);
+    }
+    st = launch(o, &o->k.substep_reduce, o->reduce_items, o->wg, dt_arg, ndt, err);
+    if (!st && !dt_arg) {
+        cl_int ncomp = o->substep_ncomp;
+        const sph_cl_arg args[] = {{"ncomp", sizeof(cl_int), &ncomp},
+                                   {"result", sizeof(cl_mem), &o->substep_sums}};
+        st = launch(o, &o->k.substep_finalize, o->wg, o->wg, args, 2, err);
+    }
     return st;
 }
 
@@ -566,17 +642,10 @@ static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_er
     sph_status st = cl_check(
         clEnqueueWriteBuffer(o->queue, o->step_clock, CL_FALSE, 0, bytes, clock, 0, NULL, NULL),
         "writing the step clock", err);
-    cl_int ngroups = o->ngroups, ncomp = o->substep_ncomp;
-    const sph_cl_arg args[] = {{"ngroups", sizeof(cl_int), &ngroups},
-                               {"ncomp", sizeof(cl_int), &ncomp},
-                               {"result", sizeof(cl_mem), &o->substep_sums}};
     while (!st && clock[CLOCK_HALTED] == CLOCK_RUNNING && clock[CLOCK_COUNT] < (double)limit) {
         const long left = limit - (long)clock[CLOCK_COUNT];
         const long batch = substeps_to_end(clock, left < 64 ? left : 64);
-        for (long b = 0; b < batch && !st; ++b) {
-            st = enqueue_substep(o, NULL, err);
-            if (!st) st = launch(o, &o->k.substep_finalize, o->wg, o->wg, args, 3, err);
-        }
+        for (long b = 0; b < batch && !st; ++b) st = enqueue_substep(o, NULL, err);
         const double t0 = be->profiling ? sph_wall_seconds() : 0.0;
         if (!st)
             st = cl_check(clEnqueueReadBuffer(o->queue, o->step_clock, CL_TRUE, 0, bytes, clock, 0,
@@ -681,11 +750,11 @@ static void ocl_destroy(sph_backend *be) {
             release(&o->field[f]);
             release(&o->spare[f]);
         }
-        cl_mem *bufs[] = {&o->nbr_count,  &o->nbr_j,        &o->pair_e,   &o->pair_dwv,
-                          &o->pair_inv_r, &o->pair_w,       &o->pair_pos, &o->keys,
-                          &o->cell_start, &o->cell_end,     &o->prm,      &o->grid_geom,
-                          &o->partials,   &o->substep_sums, &o->overflow, &o->result,
-                          &o->step_clock};
+        cl_mem *bufs[] = {&o->nbr_count,  &o->nbr_j,        &o->pair_e,     &o->pair_dwv,
+                          &o->pair_inv_r, &o->pair_w,       &o->pair_pos,   &o->keys,
+                          &o->cell_start, &o->cell_end,     &o->prm,        &o->grid_geom,
+                          &o->partials,   &o->substep_sums, &o->overflow,   &o->result,
+                          &o->step_clock, &o->keys_sorted,  &o->blocks_done};
         for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) release(bufs[k]);
         if (o->program) clReleaseProgram(o->program);
         if (o->queue) clReleaseCommandQueue(o->queue);
@@ -737,9 +806,6 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
                  {&o->k.permute_u8, "permute_u8"},
                  {&o->k.cell_ranges, "cell_ranges"},
                  {&o->k.build, "build_neighbours"},
-                 {&o->k.sort_local, "bitonic_local_sort"},
-                 {&o->k.merge_local, "bitonic_local_merge"},
-                 {&o->k.sort_global, "bitonic_global"},
                  {&o->k.pressure, "acoustic_pressure"},
                  {&o->k.velocity_terms, "acoustic_velocity_terms"},
                  {&o->k.rebuild_reduce, "rebuild_reduce"},
@@ -752,12 +818,33 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
             sph_cl_kernel_create(o->program, table[t].name, o->res, RES_COUNT, table[t].k, err);
         if (st) return st;
     }
+    if (o->counting_sort) {
+        sph_status st = sph_cl_kernel_create(o->program, "counting_sort", o->res, RES_COUNT,
+                                             &o->k.counting_sort, err);
+        if (st) return st;
+    } else {
+        const struct {
+            sph_cl_kernel *k;
+            const char *name;
+        } bitonic[] = {{&o->k.sort_local, "bitonic_local_sort"},
+                       {&o->k.merge_local, "bitonic_local_merge"},
+                       {&o->k.sort_global, "bitonic_global"}};
+        for (size_t t = 0; t < sizeof bitonic / sizeof bitonic[0]; ++t) {
+            sph_status st = sph_cl_kernel_create(o->program, bitonic[t].name, o->res, RES_COUNT,
+                                                 bitonic[t].k, err);
+            if (st) return st;
+        }
+    }
     if (o->pair_recompute) {
         sph_status st = sph_cl_kernel_create(o->program, "shifted_positions", o->res, RES_COUNT,
                                              &o->k.shifted_positions, err);
         if (st) return st;
     }
-    if (o->device_clock) {
+    if (o->device_clock && o->reduce_blocks) {
+        sph_status st = sph_cl_kernel_create(o->program, "substep_reduce_finish", o->res, RES_COUNT,
+                                             &o->k.substep_reduce_finish, err);
+        if (st) return st;
+    } else if (o->device_clock) {
         sph_status st = sph_cl_kernel_create(o->program, "substep_finalize", o->res, RES_COUNT,
                                              &o->k.substep_finalize, err);
         if (st) return st;
@@ -877,7 +964,11 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     o->item_wg = o->row_major ? 4 : o->wg;
     o->sort_wg = pow2_floor(o->dev.max_work_group < 1024 ? o->dev.max_work_group : 1024);
     o->n = n;
-    o->npad = (cl_int)o->sort_wg;
+    o->cutoff = o->real_size == sizeof(float) ? (double)(float)prm[PRM_CUTOFF] : prm[PRM_CUTOFF];
+    /* CPU devices sort by counting (SPH_COUNTING_SORT), GPUs by a bitonic
+     * network over keys padded to a power of two */
+    o->counting_sort = o->row_major;
+    o->npad = o->counting_sort ? (cl_int)n : (cl_int)o->sort_wg;
     while (o->npad < n) o->npad *= 2;
     o->ngroups = (cl_int)((n + (int)o->wg - 1) / (int)o->wg);
     /* The reductions' first stage on CPU devices: a work-item per block of
@@ -903,8 +994,8 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
                                be->build_options, sizeof be->build_options);
     const size_t used = strlen(be->build_options);
     snprintf(be->build_options + used, sizeof be->build_options - used,
-             " -DSPH_STEP_CLOCK=%d -DSPH_REDUCE_BLOCKS=%d", o->device_clock ? 1 : 0,
-             o->reduce_blocks ? 1 : 0);
+             " -DSPH_STEP_CLOCK=%d -DSPH_REDUCE_BLOCKS=%d -DSPH_COUNTING_SORT=%d",
+             o->device_clock ? 1 : 0, o->reduce_blocks ? 1 : 0, o->counting_sort ? 1 : 0);
     if (!quiet) fprintf(stderr, "sphsolid: OpenCL build options: %s\n", be->build_options);
     const char *files[] = {"neighbour_build.cl", "acoustic_step.cl", "tl_step.cl", "reduction.cl",
                            "monitor.cl"};
@@ -925,6 +1016,8 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     }
     if (!st) st = make_buffer(be, o, "nbr_count", (size_t)n * sizeof(cl_int), &o->nbr_count, err);
     if (!st) st = make_buffer(be, o, "keys", (size_t)o->npad * sizeof(cl_ulong), &o->keys, err);
+    if (!st && o->counting_sort)
+        st = make_buffer(be, o, "keys_sorted", (size_t)n * sizeof(cl_ulong), &o->keys_sorted, err);
     if (!st) st = make_buffer(be, o, "prm", PRM_COUNT * o->real_size, &o->prm, err);
     if (!st) st = make_buffer(be, o, "grid_geom", 4 * o->real_size, &o->grid_geom, err);
     if (!st)
@@ -936,6 +1029,8 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     if (!st) st = make_buffer(be, o, "overflow", sizeof(cl_int), &o->overflow, err);
     if (!st && o->device_clock)
         st = make_buffer(be, o, "step_clock", SPH_CLOCK_LEN * sizeof(double), &o->step_clock, err);
+    if (!st && o->device_clock && o->reduce_blocks)
+        st = make_buffer(be, o, "blocks_done", sizeof(cl_int), &o->blocks_done, err);
     if (!st && o->pair_recompute)
         st = make_buffer(be, o, "pair_pos",
                          (size_t)n * (size_t)f->dim * sph_field_element_size(FIELD_TYPE_HREAL, f),

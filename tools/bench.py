@@ -64,7 +64,8 @@ def pending_3d(ratios_run):
 GROUP_REBUILD, GROUP_SUBSTEP, GROUP_REDUCE, GROUP_OTHER = (
     "rebuild", "acoustic substep", "reductions", "host and output (remainder)")
 REDUCTION_PHASES = {"rebuild_reduce", "substep_reduce", "diagnostics_reduce", "monitor_reduce",
-                    "reduce_finalize", "substep_finalize", "step clock read", "max speed read"}
+                    "reduce_finalize", "substep_finalize", "substep_reduce_finish",
+                    "step clock read", "max speed read"}
 SUBSTEP_PHASES = {"acoustic substep", "acoustic_contact", "acoustic_pressure",
                   "acoustic_velocity_terms", "acoustic_shear_force", "tl_deformation",
                   "tl_acceleration", "tl_update"}
@@ -84,7 +85,8 @@ SLOT_ARRAYS = ("nbr_j", "pair_e", "pair_dwv", "pair_inv_r", "pair_w")
 # Non-const arguments that a kernel only writes (counted once); every other non-const
 # argument is counted as read and written (an upper bound).  Keep in step with device/.
 WRITE_ONLY = {
-    "cell_keys": {"keys"}, "permute": {"dst"}, "cell_ranges": {"cell_start", "cell_end"},
+    "cell_keys": {"keys"}, "cell_ranges": {"cell_start", "cell_end"},
+    "counting_sort": {"keys_sorted", "cell_start"},
     "build_neighbours": {"nbr_count", "nbr_j", "pair_e", "pair_dwv", "pair_inv_r", "pair_w",
                          "bmat", "overflow", "contact_count"},
     "shifted_positions": {"pair_pos"},
@@ -95,6 +97,7 @@ WRITE_ONLY = {
     "rebuild_reduce": {"vol", "partials"}, "substep_reduce": {"partials"},
     "diagnostics_reduce": {"partials"}, "monitor_reduce": {"partials"},
     "reduce_finalize": {"result"}, "substep_finalize": {"result"},
+    "substep_reduce_finish": {"partials", "result"},
 }
 # Arguments a kernel does not touch with averaged rotation (003 eq. 42: the increment waits
 # in dacc_shear; a^s is rotated in acoustic_pressure).
@@ -230,7 +233,8 @@ def bandwidth_model(summary, neighbours, sigs):
         return total
 
     def permute_bytes(kinds):
-        # one launch per field per rebuild: keys + field read (gathered) + field written
+        # every field once per rebuild (up to 8 per launch): keys + field read (gathered)
+        # + field written
         return sum(keys_bytes + 2 * fields[f] * n for f in fields if field_kind(f) in kinds)
 
     mixed = summary["precision"] == "mixed"
