@@ -91,7 +91,7 @@ FN int key_cell(const ulong key) {
 #define PERMUTE_SLOT_PARAMS(type, s)                                                               \
     , const int ncomp##s, GLOBAL const type *restrict src##s, GLOBAL type *restrict dst##s
 #define PERMUTE_SLOT(s)                                                                            \
-    for (int c = 0; c < ncomp##s; ++c) dst##s[c * n + k] = src##s[c * n + from];
+    for (int c = 0; c < ncomp##s; ++c) dst##s[c * n + k] = src##s[c * n + from]
 #define DEFINE_PERMUTE(name, type)                                                                 \
     KERNEL void name(ITEM_PARAM const int n,                                                       \
                      GLOBAL const ulong *restrict keys PERMUTE_SLOT_PARAMS(type, 0)                \
@@ -102,9 +102,14 @@ FN int key_cell(const ulong key) {
         const int k = ITEM_ID;                                                                     \
         if (k >= n) return;                                                                        \
         const int from = key_index(keys[k]);                                                       \
-        PERMUTE_SLOT(0)                                                                            \
-        PERMUTE_SLOT(1) PERMUTE_SLOT(2) PERMUTE_SLOT(3) PERMUTE_SLOT(4) PERMUTE_SLOT(5)            \
-            PERMUTE_SLOT(6) PERMUTE_SLOT(7)                                                        \
+        PERMUTE_SLOT(0);                                                                           \
+        PERMUTE_SLOT(1);                                                                           \
+        PERMUTE_SLOT(2);                                                                           \
+        PERMUTE_SLOT(3);                                                                           \
+        PERMUTE_SLOT(4);                                                                           \
+        PERMUTE_SLOT(5);                                                                           \
+        PERMUTE_SLOT(6);                                                                           \
+        PERMUTE_SLOT(7);                                                                           \
     }
 DEFINE_PERMUTE(permute_real, real)
 DEFINE_PERMUTE(permute_int, int)
