@@ -87,7 +87,7 @@ FN int key_cell(const ulong key) {
  * PERMUTE_BATCH fields of one element type per launch (slots past the last
  * have ncomp = 0): a launch costs 5-8 us on pocl, and the ENOG-A plate has
  * 12 real fields. */
-#define PERMUTE_BATCH 8
+#define PERMUTE_BATCH 8 /* the host fills this many slots (backend_opencl.c) */
 #define PERMUTE_SLOT_PARAMS(type, s)                                                               \
     , const int ncomp##s, GLOBAL const type *restrict src##s, GLOBAL type *restrict dst##s
 #define PERMUTE_SLOT(s)                                                                            \

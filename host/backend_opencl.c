@@ -432,7 +432,7 @@ static sph_status sort_keys_bitonic(ocl_impl *o, sph_error *err) {
 /* The fields in the sorted order: each field is gathered into its spare
  * copy, PERMUTE_BATCH fields of one element type per launch
  * (neighbour_build.cl), and the two swap. */
-#define PERMUTE_BATCH 8
+#define PERMUTE_BATCH 8 /* the slots of the permute kernels (neighbour_build.cl) */
 static sph_cl_kernel *permute_kernel(sph_backend *be, ocl_impl *o, sph_field f) {
     const sph_field_type type = be->fields[f].type;
     /* a history field is real unless the run is mixed (fields.h) */
