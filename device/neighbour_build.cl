@@ -154,17 +154,6 @@ counting_sort(const int n, const int gx, const int gy, const int gz,
 }
 #endif
 
-/* First and one-past-last sorted index of each occupied cell (the ranges of
- * empty cells were zero-filled before). */
-KERNEL void cell_ranges(ITEM_PARAM const int n, GLOBAL const ulong *restrict keys,
-                        GLOBAL int *restrict cell_start, GLOBAL int *restrict cell_end) {
-    const int k = ITEM_ID;
-    if (k >= n) return;
-    const int cell = key_cell(keys[k]);
-    if (k == 0 || key_cell(keys[k - 1]) != cell) cell_start[cell] = k;
-    if (k == n - 1 || key_cell(keys[k + 1]) != cell) cell_end[cell] = k + 1;
-}
-
 /* B = (A^T A + eps I)^-1 A^T (the reference's Tikhonov inverse). */
 FN mat correction_matrix(const mat a) {
     mat ata = mat_mul(mat_transpose(a), a);
@@ -372,6 +361,18 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
 }
 
 #if SPH_OPENCL && !SPH_COUNTING_SORT
+/* After the bitonic sort: first and one-past-last sorted index of each
+ * occupied cell (the ranges of empty cells were zero-filled before; the
+ * counting sort writes the ranges itself). */
+KERNEL void cell_ranges(ITEM_PARAM const int n, GLOBAL const ulong *restrict keys,
+                        GLOBAL int *restrict cell_start, GLOBAL int *restrict cell_end) {
+    const int k = ITEM_ID;
+    if (k >= n) return;
+    const int cell = key_cell(keys[k]);
+    if (k == 0 || key_cell(keys[k - 1]) != cell) cell_start[cell] = k;
+    if (k == n - 1 || key_cell(keys[k + 1]) != cell) cell_end[cell] = k + 1;
+}
+
 /* Bitonic sort of the padded key array (deterministic, no atomics).
  * bitonic_local_sort sorts every SORT_WG-sized block; for each larger merge
  * size k the host runs bitonic_global for the strides >= SORT_WG and then

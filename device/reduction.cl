@@ -49,6 +49,21 @@ FN void reduce_combine(real *acc, const real *c, const int nmax, const int ncomp
         for (int k_ = 0; k_ < (NCOMP); ++k_) (partials)[(g) * (NCOMP) + k_] = acc_[k_];            \
     } while (0)
 
+/* The partial rows combined in row order, component by component: the
+ * native backend's second stage, and on CPU devices one work-item's
+ * (finalize_rows, substep_reduce_finish). */
+FN void combine_rows(const int ngroups, const int nmax, const int ncomp,
+                     GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
+    for (int k = 0; k < ncomp; ++k) {
+        real acc = k < nmax ? REAL_LOWEST : R(0);
+        for (int g = 0; g < ngroups; ++g) {
+            const real x = partials[g * ncomp + k];
+            acc = k < nmax ? fmax(acc, x) : acc + x;
+        }
+        result[k] = acc;
+    }
+}
+
 /* Components: -min x (d), max x (d), max |v|^2, max 4 h |a| (all by max).
  * The acceleration of the advection criterion is the dissipation plus the
  * external acceleration: what the reference code's force array holds at the
@@ -209,19 +224,6 @@ diagnostics_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict
     REDUCE_SCRATCH;
     REDUCE_PARTICLES(0, DIAG_NCOMP, DIAG_NCOMP,
                      diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, c));
-}
-
-/* The rows combined in order by one work-item (CPU devices). */
-FN void combine_rows(const int ngroups, const int nmax, const int ncomp,
-                     GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
-    for (int k = 0; k < ncomp; ++k) {
-        real acc = k < nmax ? REAL_LOWEST : R(0);
-        for (int g = 0; g < ngroups; ++g) {
-            const real x = partials[g * ncomp + k];
-            acc = k < nmax ? fmax(acc, x) : acc + x;
-        }
-        result[k] = acc;
-    }
 }
 
 /* Second stage, one work-group: row-wise combine of `ngroups` partial rows. */

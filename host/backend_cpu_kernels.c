@@ -29,11 +29,7 @@
         const int ngroups_ = (n_ + SPH_WG - 1) / SPH_WG;                                           \
         _Pragma("omp for schedule(static)") for (int g_ = 0; g_ < ngroups_; ++g_)                  \
             REDUCE_BLOCK(g_, n_, (nmax), (ncomp), BLOCK_NCOMP_MAX, partials_, CONTRIB);            \
-        _Pragma("omp single") {                                                                    \
-            reduce_identity((result), (nmax), (ncomp));                                            \
-            for (int g_ = 0; g_ < ngroups_; ++g_)                                                  \
-                reduce_combine((result), partials_ + g_ * (ncomp), (nmax), (ncomp));               \
-        }                                                                                          \
+        _Pragma("omp single") combine_rows(ngroups_, (nmax), (ncomp), partials_, (result));        \
     } while (0)
 
 #define F_REAL(b, f)  ((real *)(b)->field[f])
@@ -124,8 +120,7 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                  substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
                                  F_U8(b, FIELD_BODY), c)));
     }
-    reduce_identity(sums, 1, ncomp);
-    for (int g = 0; g < ngroups; ++g) reduce_combine(sums, partials + g * ncomp, 1, ncomp);
+    combine_rows(ngroups, 1, ncomp, partials, sums);
     *max_speed2 = (double)sums[0];
 }
 
@@ -200,8 +195,7 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                     F_REAL(b, FIELD_PENALTY_SCALE), F_REAL(b, FIELD_DACC_SHEAR));
         }
     }
-    reduce_identity(sums, 1, ncomp);
-    for (int g = 0; g < ngroups; ++g) reduce_combine(sums, partials + g * ncomp, 1, ncomp);
+    combine_rows(ngroups, 1, ncomp, partials, sums);
     *max_speed2 = (double)sums[0];
 }
 

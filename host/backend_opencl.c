@@ -797,86 +797,56 @@ static void describe_kernels(sph_backend *be, const ocl_impl *o) {
 }
 
 static sph_status create_kernels(ocl_impl *o, sph_error *err) {
-    struct {
+    const sph_features *f = &o->be->features;
+    const bool tlsph = f->formulation == SPH_FORMULATION_TLSPH;
+    /* the kernels of this run's program: those of features the run lacks
+     * are not in it (the -D options of sph_backend_opencl_create) */
+    const struct {
         sph_cl_kernel *k;
         const char *name;
-    } table[] = {{&o->k.cell_keys, "cell_keys"},
-                 {&o->k.permute_real, "permute_real"},
-                 {&o->k.permute_int, "permute_int"},
-                 {&o->k.permute_u8, "permute_u8"},
-                 {&o->k.cell_ranges, "cell_ranges"},
-                 {&o->k.build, "build_neighbours"},
-                 {&o->k.pressure, "acoustic_pressure"},
-                 {&o->k.velocity_terms, "acoustic_velocity_terms"},
-                 {&o->k.rebuild_reduce, "rebuild_reduce"},
-                 {&o->k.substep_reduce, "substep_reduce"},
-                 {&o->k.diagnostics_reduce, "diagnostics_reduce"},
-                 {&o->k.finalize, "reduce_finalize"},
-                 {&o->k.monitor_reduce, "monitor_reduce"}};
+        bool needed;
+    } table[] = {
+        {&o->k.rebuild_reduce, "rebuild_reduce", true},
+        {&o->k.cell_keys, "cell_keys", true},
+        /* CPU devices sort by counting, GPUs by a bitonic network followed
+         * by cell_ranges */
+        {&o->k.counting_sort, "counting_sort", o->counting_sort},
+        {&o->k.sort_local, "bitonic_local_sort", !o->counting_sort},
+        {&o->k.merge_local, "bitonic_local_merge", !o->counting_sort},
+        {&o->k.sort_global, "bitonic_global", !o->counting_sort},
+        {&o->k.cell_ranges, "cell_ranges", !o->counting_sort},
+        {&o->k.permute_real, "permute_real", true},
+        /* the double history fields exist only in mixed precision */
+        {&o->k.permute_hreal, "permute_hreal", f->mixed_precision},
+        {&o->k.permute_int, "permute_int", true},
+        {&o->k.permute_u8, "permute_u8", true},
+        {&o->k.shifted_positions, "shifted_positions", o->pair_recompute},
+        {&o->k.build, "build_neighbours", true},
+        /* the TLSPH passes, or the contact pass (several bodies), pressure,
+         * velocity terms and the stress-divergence formulations' third pass */
+        {&o->k.tl_deformation, "tl_deformation", tlsph},
+        {&o->k.tl_acceleration, "tl_acceleration", tlsph},
+        {&o->k.tl_update, "tl_update", tlsph},
+        {&o->k.contact, "acoustic_contact", !tlsph && f->contact},
+        {&o->k.pressure, "acoustic_pressure", true},
+        {&o->k.velocity_terms, "acoustic_velocity_terms", true},
+        {&o->k.shear_force, "acoustic_shear_force",
+         !tlsph && FORM_HAS_STRESS_DIV((int)f->formulation)},
+        /* the substep reduction: with the device clock, its second stage
+         * advances the clock (in the same launch on CPU devices) */
+        {&o->k.substep_reduce, "substep_reduce", true},
+        {&o->k.substep_finalize, "substep_finalize", o->device_clock && !o->reduce_blocks},
+        {&o->k.substep_reduce_finish, "substep_reduce_finish", o->device_clock && o->reduce_blocks},
+        {&o->k.diagnostics_reduce, "diagnostics_reduce", true},
+        {&o->k.finalize, "reduce_finalize", true},
+        {&o->k.monitor_reduce, "monitor_reduce", true},
+    };
     for (size_t t = 0; t < sizeof table / sizeof table[0]; ++t) {
+        if (!table[t].needed) continue;
         sph_status st =
             sph_cl_kernel_create(o->program, table[t].name, o->res, RES_COUNT, table[t].k, err);
         if (st) return st;
     }
-    if (o->counting_sort) {
-        sph_status st = sph_cl_kernel_create(o->program, "counting_sort", o->res, RES_COUNT,
-                                             &o->k.counting_sort, err);
-        if (st) return st;
-    } else {
-        const struct {
-            sph_cl_kernel *k;
-            const char *name;
-        } bitonic[] = {{&o->k.sort_local, "bitonic_local_sort"},
-                       {&o->k.merge_local, "bitonic_local_merge"},
-                       {&o->k.sort_global, "bitonic_global"}};
-        for (size_t t = 0; t < sizeof bitonic / sizeof bitonic[0]; ++t) {
-            sph_status st = sph_cl_kernel_create(o->program, bitonic[t].name, o->res, RES_COUNT,
-                                                 bitonic[t].k, err);
-            if (st) return st;
-        }
-    }
-    if (o->pair_recompute) {
-        sph_status st = sph_cl_kernel_create(o->program, "shifted_positions", o->res, RES_COUNT,
-                                             &o->k.shifted_positions, err);
-        if (st) return st;
-    }
-    if (o->device_clock && o->reduce_blocks) {
-        sph_status st = sph_cl_kernel_create(o->program, "substep_reduce_finish", o->res, RES_COUNT,
-                                             &o->k.substep_reduce_finish, err);
-        if (st) return st;
-    } else if (o->device_clock) {
-        sph_status st = sph_cl_kernel_create(o->program, "substep_finalize", o->res, RES_COUNT,
-                                             &o->k.substep_finalize, err);
-        if (st) return st;
-    }
-    /* the double history fields exist only in mixed precision */
-    if (o->be->features.mixed_precision) {
-        sph_status st = sph_cl_kernel_create(o->program, "permute_hreal", o->res, RES_COUNT,
-                                             &o->k.permute_hreal, err);
-        if (st) return st;
-    }
-    /* the program has the TLSPH passes only when built for TLSPH */
-    if (o->be->features.formulation == SPH_FORMULATION_TLSPH) {
-        sph_status st = sph_cl_kernel_create(o->program, "tl_deformation", o->res, RES_COUNT,
-                                             &o->k.tl_deformation, err);
-        if (!st)
-            st = sph_cl_kernel_create(o->program, "tl_acceleration", o->res, RES_COUNT,
-                                      &o->k.tl_acceleration, err);
-        if (!st)
-            st = sph_cl_kernel_create(o->program, "tl_update", o->res, RES_COUNT, &o->k.tl_update,
-                                      err);
-        return st;
-    }
-    /* the contact pass exists only in programs for several bodies */
-    if (o->be->features.contact) {
-        sph_status st = sph_cl_kernel_create(o->program, "acoustic_contact", o->res, RES_COUNT,
-                                             &o->k.contact, err);
-        if (st) return st;
-    }
-    /* the program has the third pass only when the formulation needs it */
-    if (FORM_HAS_STRESS_DIV((int)o->be->features.formulation))
-        return sph_cl_kernel_create(o->program, "acoustic_shear_force", o->res, RES_COUNT,
-                                    &o->k.shear_force, err);
     return SPH_OK;
 }
 
