@@ -45,6 +45,7 @@
 #include "sph_contact.h"
 #include "sph_wall.h"
 #include "sph_pair_geometry.h"
+#include "sph_torque_projection.h"
 
 #if SPH_HAS_ROTATION_AVG
 #    define ROTATION_AVG_PARAMS                                                                    \
@@ -217,6 +218,19 @@ KERNEL void acoustic_pressure(
          * lag of the increment; 1.05 % with the mid-interval geometry
          * (README, "SPH-ENOG-A rotation"). */
         a_s = hvec_rotate(acc_shear, n, i, rbar, vec_load(dacc_shear, n, i));
+#    if SPH_HAS_TORQUE_PROJECTION
+        if (RUNTIME_TORQUE_PROJECTION) {
+            /* less the rigid field that carries the turned sum's net torque
+             * at this substep's kick positions (sph_torque_projection.h) */
+            real alpha[NSPIN];
+            vec centre;
+            torque_field(substep_sums + torque_offset(prm, BODY_OF(i)), rbar, dt, alpha, &centre);
+            const vec x_half = vec_axpy(hvec_load(pos, n, i), half_dt, vec_load(vel, n, i));
+            const vec field = torque_field_at(alpha, centre, x_half);
+            hvec_add_store(acc_shear, n, i, vec_scale(field, R(-1)));
+            a_s = vec_sub(a_s, field);
+        }
+#    endif
     }
 #endif
 

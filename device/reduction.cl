@@ -10,20 +10,24 @@
  *  rebuild:     bounding box and the advection-step criteria, once per
  *               configuration rebuild (also refreshes V = m/rho);
  *  substep:     max |v|^2 for the acoustic step and, for SPH-ENOG-A, the sum
- *               of the Rodrigues matrices of each body (003 eq. 41);
+ *               of the Rodrigues matrices of each body (003 eq. 41), and
+ *               with method.torque_projection each body's moments of the
+ *               accumulated shear acceleration (sph_torque_projection.h);
  *  diagnostics: kinetic and strain energy, linear and angular momentum.
  */
 #include "sph_vec.h"
 #include "sph_rotation.h"
 #include "sph_elasticity.h"
+#include "sph_torque_projection.h"
 
-#define REBUILD_NCOMP     (2 * SPH_DIM + 2)
-#define SUBSTEP_NCOMP_MAX (1 + SPH_NBODIES * SPH_DIM * SPH_DIM)
-#define DIAG_NCOMP        (2 + SPH_DIM + NSPIN)
-#define DIAG_KINETIC      0
-#define DIAG_STRAIN       1
-#define DIAG_MOMENTUM     2
-#define DIAG_ANGULAR      (2 + SPH_DIM)
+#define REBUILD_NCOMP (2 * SPH_DIM + 2)
+#define SUBSTEP_NCOMP_MAX                                                                          \
+    (1 + SPH_NBODIES * (SPH_DIM * SPH_DIM + (SPH_HAS_TORQUE_PROJECTION ? TORQUE_NCOMP : 0)))
+#define DIAG_NCOMP    (2 + SPH_DIM + NSPIN)
+#define DIAG_KINETIC  0
+#define DIAG_STRAIN   1
+#define DIAG_MOMENTUM 2
+#define DIAG_ANGULAR  (2 + SPH_DIM)
 
 FN void reduce_identity(real *c, const int nmax, const int ncomp) {
     for (int k = 0; k < ncomp; ++k) c[k] = k < nmax ? REAL_LOWEST : R(0);
@@ -87,12 +91,25 @@ FN void rebuild_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL con
 
 FN int substep_ncomp(CONSTANT real *prm) {
     (void)prm;
-    return RUNTIME_ROTATION == ROTATION_AVERAGED ? 1 + RUNTIME_NBODIES * SPH_DIM * SPH_DIM : 1;
+    if (RUNTIME_ROTATION != ROTATION_AVERAGED) return 1;
+    const int torque = SPH_HAS_TORQUE_PROJECTION && RUNTIME_TORQUE_PROJECTION ? TORQUE_NCOMP : 0;
+    return 1 + RUNTIME_NBODIES * (SPH_DIM * SPH_DIM + torque);
 }
-/* Components: max |v|^2; then per body the summed R_i (d*d, by sum). */
+#if SPH_HAS_TORQUE_PROJECTION
+#    define TORQUE_CONTRIB_PARAMS                                                                  \
+        , GLOBAL const hreal *pos, GLOBAL const real *mass, GLOBAL const hreal *acc_shear,         \
+            GLOBAL const real *dacc_shear
+#    define TORQUE_CONTRIB_ARGS , pos, mass, acc_shear, dacc_shear
+#else
+#    define TORQUE_CONTRIB_PARAMS
+#    define TORQUE_CONTRIB_ARGS
+#endif
+/* Components: max |v|^2; then per body the summed R_i (d*d, by sum); then,
+ * with the torque projection, per body the moments of
+ * sph_torque_projection.h (TORQUE_NCOMP, by sum; at torque_offset). */
 FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *prm,
-                        GLOBAL const real *vel, GLOBAL const real *spin, GLOBAL const u8 *body,
-                        real *c) {
+                        GLOBAL const real *vel, GLOBAL const real *spin,
+                        GLOBAL const u8 *body TORQUE_CONTRIB_PARAMS, real *c) {
     const vec v = vec_load(vel, n, i);
     const real v2 = vec_dot(v, v);
     /* the max reduction (fmax) would drop a NaN: make it the largest value,
@@ -107,6 +124,14 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *
     const int b = (SPH_HAS_BODY_IDS && PRESENT(body)) ? (int)body[i] : 0;
     UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int e = 0; e < SPH_DIM; ++e)
         c[1 + (b * SPH_DIM + a) * SPH_DIM + e] = rot.m[a][e];
+#if SPH_HAS_TORQUE_PROJECTION
+    /* y = x^{n+1}, w = v^{n+1}, b = a^s + da^s: what the next substep's
+     * acoustic_pressure turns by Rbar and applies at y + dt/2 w */
+    if (RUNTIME_TORQUE_PROJECTION && PRESENT(dacc_shear))
+        torque_moments(mass[i], hvec_load(pos, n, i), v,
+                       vec_add(hvec_load(acc_shear, n, i), vec_load(dacc_shear, n, i)),
+                       c + torque_offset(prm, b));
+#endif
 }
 
 /* Components (all by sum): kinetic energy, strain energy, momentum (d),
@@ -206,14 +231,22 @@ rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos
 #        define BODY_ARG 0
 #        define REDUCE_BODY_PARAMS
 #    endif
-__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-substep_reduce(const int n, STEP_DT_PARAM, CONSTANT real *prm, GLOBAL const real *restrict vel,
-               GLOBAL real *restrict partials REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS) {
+#    if SPH_HAS_TORQUE_PROJECTION
+#        define REDUCE_TORQUE_PARAMS                                                               \
+            , GLOBAL const hreal *restrict pos, GLOBAL const real *restrict mass,                  \
+                GLOBAL const hreal *restrict acc_shear, GLOBAL const real *restrict dacc_shear
+#    else
+#        define REDUCE_TORQUE_PARAMS
+#    endif
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce(
+    const int n, STEP_DT_PARAM, CONSTANT real *prm, GLOBAL const real *restrict vel,
+    GLOBAL real *restrict partials REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS REDUCE_TORQUE_PARAMS) {
     REDUCE_SCRATCH;
     STEP_DT_BEGIN;
     const int ncomp = substep_ncomp(prm);
-    REDUCE_PARTICLES(1, ncomp, SUBSTEP_NCOMP_MAX,
-                     substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, c));
+    REDUCE_PARTICLES(
+        1, ncomp, SUBSTEP_NCOMP_MAX,
+        substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG TORQUE_CONTRIB_ARGS, c));
 }
 
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
@@ -277,18 +310,17 @@ substep_finalize(const int ngroups, const int ncomp, GLOBAL const real *restrict
  * combines the rows in order, the same sums as substep_finalize whoever
  * does them, advances the clock and resets the counter.  The others read
  * the clock before they count, so they never see it change mid-launch. */
-__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-substep_reduce_finish(const int n, const int ngroups, CONSTANT real *prm,
-                      GLOBAL const real *restrict vel, GLOBAL real *partials,
-                      GLOBAL real *restrict result, GLOBAL double *step_clock,
-                      volatile GLOBAL int *blocks_done REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS) {
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce_finish(
+    const int n, const int ngroups, CONSTANT real *prm, GLOBAL const real *restrict vel,
+    GLOBAL real *partials, GLOBAL real *restrict result, GLOBAL double *step_clock,
+    volatile GLOBAL int *blocks_done REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS REDUCE_TORQUE_PARAMS) {
     if (step_clock[CLOCK_HALTED] != 0.0) return;
     const real dt = (real)step_clock[CLOCK_DT];
     const int ncomp = substep_ncomp(prm);
     const int g = get_global_id(0);
     if (g >= ngroups) return;
     REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
-                 substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, c));
+                 substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG TORQUE_CONTRIB_ARGS, c));
     mem_fence(CLK_GLOBAL_MEM_FENCE);
     if (atomic_inc(blocks_done) != ngroups - 1) return;
     mem_fence(CLK_GLOBAL_MEM_FENCE);

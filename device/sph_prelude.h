@@ -16,6 +16,8 @@
  *                    its counterpart in the native backend's C build
  *   SPH_PLASTIC      1 when the material follows J2 plasticity (003 eqs. 11-14)
  *   SPH_ROTATION     ROTATION_* : how the accumulated shear acceleration turns
+ *   SPH_TORQUE_PROJECTION 1: the accumulated ENOG shear acceleration is kept
+ *                    free of net torque per body (sph_torque_projection.h)
  *   SPH_HAS_CLAMP    1 when the scene has fixed (clamped) particles
  *   SPH_NBODIES      number of bodies (1 when the scene has one body)
  *   SPH_CONTACT      1 when bodies must not merge: the neighbour lists hold
@@ -79,6 +81,10 @@ typedef float real;
 #    define RUNTIME_NBODIES     SPH_NBODIES
 #    define RUNTIME_FORMULATION SPH_FORMULATION
 #    define RUNTIME_PLASTIC     SPH_PLASTIC
+#    ifndef SPH_TORQUE_PROJECTION
+#        define SPH_TORQUE_PROJECTION 0
+#    endif
+#    define RUNTIME_TORQUE_PROJECTION SPH_TORQUE_PROJECTION
 /* Which optional buffers and code paths this program has. */
 #    define SPH_HAS_ROTATION_AVG (SPH_ROTATION == ROTATION_AVERAGED)
 #    define SPH_HAS_BODY_IDS     (SPH_NBODIES > 1)
@@ -89,9 +95,10 @@ typedef float real;
          SPH_FORMULATION == FORMULATION_GNOG || SPH_FORMULATION == FORMULATION_GNOG_A)
 #    define SPH_HAS_PENALTY                                                                        \
         (SPH_FORMULATION == FORMULATION_GNOG || SPH_FORMULATION == FORMULATION_GNOG_A)
-#    define SPH_HAS_ART_STRESS (SPH_FORMULATION == FORMULATION_OAS)
-#    define SPH_HAS_TLSPH      (SPH_FORMULATION == FORMULATION_TLSPH)
-#    define SPH_HAS_PLASTICITY SPH_PLASTIC
+#    define SPH_HAS_ART_STRESS        (SPH_FORMULATION == FORMULATION_OAS)
+#    define SPH_HAS_TLSPH             (SPH_FORMULATION == FORMULATION_TLSPH)
+#    define SPH_HAS_PLASTICITY        SPH_PLASTIC
+#    define SPH_HAS_TORQUE_PROJECTION SPH_TORQUE_PROJECTION
 /* TLSPH with a J2 material: the finite-strain return map and the 002
  * hourglass switch (sph_plasticity.h, tl_step.cl) */
 #    define SPH_HAS_TL_PLASTICITY (SPH_HAS_TLSPH && SPH_PLASTIC)
@@ -138,15 +145,17 @@ typedef float real;
 #    else
 #        define RUNTIME_FORMULATION ((int)prm[PRM_FORMULATION])
 #    endif
-#    define RUNTIME_PLASTIC      ((int)prm[PRM_PLASTIC])
-#    define SPH_HAS_ROTATION_AVG 1
-#    define SPH_HAS_BODY_IDS     1
-#    define SPH_HAS_ENOG         1
-#    define SPH_HAS_STRESS_DIV   1
-#    define SPH_HAS_PENALTY      1
-#    define SPH_HAS_ART_STRESS   1
-#    define SPH_HAS_TLSPH        1
-#    define SPH_HAS_PLASTICITY   1
+#    define RUNTIME_PLASTIC           ((int)prm[PRM_PLASTIC])
+#    define RUNTIME_TORQUE_PROJECTION ((int)prm[PRM_TORQUE_PROJECTION])
+#    define SPH_HAS_ROTATION_AVG      1
+#    define SPH_HAS_BODY_IDS          1
+#    define SPH_HAS_ENOG              1
+#    define SPH_HAS_STRESS_DIV        1
+#    define SPH_HAS_PENALTY           1
+#    define SPH_HAS_ART_STRESS        1
+#    define SPH_HAS_TLSPH             1
+#    define SPH_HAS_PLASTICITY        1
+#    define SPH_HAS_TORQUE_PROJECTION 1
 
 #    define SPH_HAS_TL_PLASTICITY 1
 #    define SPH_HAS_CONTACT       1

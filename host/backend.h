@@ -94,7 +94,7 @@ typedef struct {
 #define SPH_MAX_PROFILE_RECORDS 32
 
 /* Length of the carried substep state (see sph_backend_ops). */
-#define SPH_CARRIED_LEN (1 + SPH_MAX_BODIES * 9)
+#define SPH_CARRIED_LEN (1 + SPH_MAX_BODIES * (9 + SPH_TORQUE_NCOMP(3)))
 
 typedef struct sph_backend sph_backend;
 typedef struct {
@@ -118,7 +118,8 @@ typedef struct {
     sph_status (*upload_field)(sph_backend *be, sph_field field, const void *host, sph_error *err);
     /* State carried from one substep to the next besides the fields: the
      * substep reduction (max |v|^2, per-body sums of the Rodrigues matrices
-     * that give R-bar), SPH_CARRIED_LEN values.  Checkpoints save it. */
+     * that give R-bar, the torque projection's moments), SPH_CARRIED_LEN
+     * values.  Checkpoints save it. */
     sph_status (*download_carried)(sph_backend *be, double *out, sph_error *err);
     sph_status (*upload_carried)(sph_backend *be, const double *in, sph_error *err);
     void (*destroy)(sph_backend *be);

@@ -13,9 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SUBSTEP_SUMS_LEN  SPH_CARRIED_LEN
-#define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
-#define CPU_GROUP         256 /* = SPH_WG of the C build of device/ */
+#define SUBSTEP_SUMS_LEN SPH_CARRIED_LEN
+#define CPU_GROUP        256 /* = SPH_WG of the C build of device/ */
 
 typedef struct {
     const cpu_kernels *k;
@@ -385,9 +384,10 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
              c->b.parallel ? omp_get_max_threads() : 1, c->b.parallel ? "s" : "");
     snprintf(be->build_options, sizeof be->build_options,
              "native: dim=%d precision=%s formulation=%s (compiled in) rotation=%s clamp=%d "
-             "bodies=%d",
+             "bodies=%d%s",
              f->dim, sph_precision_name(f), sph_formulation_name(f->formulation),
-             sph_rotation_name(f->rotation), f->has_clamp ? 1 : 0, f->nbodies);
+             sph_rotation_name(f->rotation), f->has_clamp ? 1 : 0, f->nbodies,
+             f->torque_projection ? " torque_projection=1" : "");
 
     /* before allocating: what the run needs must fit in the memory */
     const int cap0 = sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]);
@@ -396,7 +396,7 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     for (int k = 0; k < FIELD_COUNT; ++k)
         if (be->fields[k].present) fields_bytes += 2.0 * (double)field_bytes(be, (sph_field)k);
     fields_bytes += (double)n * (2.0 * sizeof(uint64_t) + sizeof(int32_t)) +
-                    (double)ngroups * PARTIAL_NCOMP_MAX * (double)c->real_size;
+                    (double)ngroups * sph_partial_ncomp(f) * (double)c->real_size;
     const double pairs_bytes = (double)n * (double)cap0 * (double)pair_slot_bytes(f, c->real_size);
     const double particles_bytes = (double)n * (double)sph_particles_bytes_each(f->dim, true);
     char available[256];
@@ -428,7 +428,7 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     c->b.ngroups = ngroups;
     c->b.prm = malloc(PRM_COUNT * c->real_size);
     c->b.grid_geom = malloc(4 * c->real_size);
-    c->b.partials = malloc((size_t)ngroups * PARTIAL_NCOMP_MAX * c->real_size);
+    c->b.partials = malloc((size_t)ngroups * (size_t)sph_partial_ncomp(f) * c->real_size);
     c->b.substep_sums = calloc(SUBSTEP_SUMS_LEN, c->real_size);
     c->b.keys = malloc((size_t)n * sizeof(uint64_t));
     c->keys_sorted = malloc((size_t)n * sizeof(uint64_t));

@@ -118,7 +118,8 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                 (tl_update(i, n, dt, prm, F_HREAL(b, FIELD_ACC_SHEAR), F_HREAL(b, FIELD_POS),
                            F_REAL(b, FIELD_VEL), F_U8(b, FIELD_FIXED)),
                  substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
-                                 F_U8(b, FIELD_BODY), c)));
+                                 F_U8(b, FIELD_BODY), F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_MASS),
+                                 F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR), c)));
     }
     combine_rows(ngroups, 1, ncomp, partials, sums);
     *max_speed2 = (double)sums[0];
@@ -180,7 +181,9 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
         for (int g = 0; g < ngroups; ++g)
             REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
                          substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
-                                         F_U8(b, FIELD_BODY), c));
+                                         F_U8(b, FIELD_BODY), F_HREAL(b, FIELD_POS),
+                                         F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_ACC_SHEAR),
+                                         F_REAL(b, FIELD_DACC_SHEAR), c));
         /* third pass of the stress-divergence formulations: reads the tau
          * and L of the neighbours written above */
         if (stress_div) {

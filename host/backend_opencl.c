@@ -19,9 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SUBSTEP_SUMS_LEN  SPH_CARRIED_LEN
-#define PARTIAL_NCOMP_MAX (1 + SPH_MAX_BODIES * 9)
-#define RESULT_LEN        16
+#define SUBSTEP_SUMS_LEN SPH_CARRIED_LEN
+#define RESULT_LEN       16
 
 /* Indices of the named resources kernels are bound to. */
 enum {
@@ -156,7 +155,7 @@ static sph_status check_device_memory(const sph_backend *be, const ocl_impl *o, 
         {"pair_w", tlsph ? slots * real : 0.0, 1},
         {"nbr_count", n * sizeof(cl_int), 1},
         {"keys", (double)o->npad * sizeof(cl_ulong), o->counting_sort ? 2 : 1},
-        {"partials", (double)o->ngroups * PARTIAL_NCOMP_MAX * real, 1},
+        {"partials", (double)o->ngroups * sph_partial_ncomp(&be->features) * real, 1},
         {"cell_start", n * sizeof(cl_int), 2}, /* and cell_end */
     };
     double total = 0.0, largest = 0.0;
@@ -946,7 +945,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
      * work-item per particle and a tree over each group. */
     o->reduce_blocks = o->row_major;
     o->reduce_items = o->reduce_blocks ? (size_t)o->ngroups : (size_t)o->ngroups * o->wg;
-    o->substep_ncomp = f->rotation == SPH_ROTATION_AVERAGED ? 1 + f->nbodies * f->dim * f->dim : 1;
+    o->substep_ncomp = sph_substep_ncomp(f);
 
     st = check_device_memory(be, o, device_index,
                              sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]),
@@ -991,7 +990,9 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     if (!st) st = make_buffer(be, o, "prm", PRM_COUNT * o->real_size, &o->prm, err);
     if (!st) st = make_buffer(be, o, "grid_geom", 4 * o->real_size, &o->grid_geom, err);
     if (!st)
-        st = make_buffer(be, o, "partials", (size_t)o->ngroups * PARTIAL_NCOMP_MAX * o->real_size,
+        st = make_buffer(be, o, "partials",
+                         (size_t)o->ngroups * (size_t)sph_partial_ncomp(&be->features) *
+                             o->real_size,
                          &o->partials, err);
     if (!st)
         st = make_buffer(be, o, "substep_sums", SUBSTEP_SUMS_LEN * o->real_size, &o->substep_sums,

@@ -23,6 +23,7 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
      * one body, scene.c) */
     out->contact = scene->nbodies > 1 && scene->formulation != SPH_FORMULATION_TLSPH;
     out->walls = scene->nwalls;
+    out->torque_projection = scene->torque_projection;
     for (int b = 0; b < scene->nbodies; ++b)
         if (scene->materials[scene->bodies[b].material].plastic) out->plastic = true;
 }
@@ -51,12 +52,25 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_MIXED=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
-             "-DSPH_WG=%d "
+             "-DSPH_TORQUE_PROJECTION=%d -DSPH_WG=%d "
              "-DSORT_WG=%d",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
              f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
-             pair_recompute ? 1 : 0, reduce_wg, sort_wg);
+             pair_recompute ? 1 : 0, f->torque_projection ? 1 : 0, reduce_wg, sort_wg);
+}
+
+int sph_substep_ncomp(const sph_features *f) {
+    if (f->rotation != SPH_ROTATION_AVERAGED) return 1;
+    const int torque = f->torque_projection ? SPH_TORQUE_NCOMP(f->dim) : 0;
+    return 1 + f->nbodies * (f->dim * f->dim + torque);
+}
+
+int sph_partial_ncomp(const sph_features *f) {
+    /* rebuild 2d + 2, diagnostics 2 + d + (1 or 3), monitor 4 + 2d */
+    const int others = SPH_MONITOR_NCOMP(f->dim);
+    const int substep = sph_substep_ncomp(f);
+    return substep > others ? substep : others;
 }
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
@@ -70,6 +84,16 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
                             "%s: bodies '%s' and '%s' use different materials; this version "
                             "runs scenes whose bodies share one material",
                             scene->path, scene->bodies[0].name, scene->bodies[b].name);
+    /* the projection turns a body's surplus torque into a rigid angular
+     * acceleration: right for a free body, whose rigid spin it is, but a
+     * clamp or a driven region would have to hold that rigid field back and
+     * the body would bend (the 2D plate's period 0.65 % shorter) */
+    if (f->torque_projection && f->has_clamp)
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "%s: method.torque_projection keeps the net torque of free bodies; "
+                        "this scene constrains %d particles (clamp, rollers or a driven "
+                        "region), so leave it false",
+                        scene->path, particles->fixed_count);
     if (f->nbodies > SPH_MAX_BODIES)
         return sph_fail(err, SPH_ERR_INPUT, "%s: %d bodies, at most %d are supported", scene->path,
                         f->nbodies, SPH_MAX_BODIES);
@@ -91,6 +115,7 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     prm[PRM_DP] = scene->dp;
     prm[PRM_FORMULATION] = (double)f->formulation;
     prm[PRM_PLASTIC] = f->plastic ? 1.0 : 0.0;
+    prm[PRM_TORQUE_PROJECTION] = f->torque_projection ? 1.0 : 0.0;
     prm[PRM_XI_G] = scene->xi_g;
     prm[PRM_YIELD] = m->yield_stress;
     prm[PRM_HARDENING] = m->hardening_modulus;

@@ -36,6 +36,9 @@ typedef struct {
      * contact force between bodies (device/sph_contact.h); not TLSPH */
     bool contact;
     int walls; /* rigid walls (device/sph_wall.h) */
+    /* SPH-ENOG-A's accumulated shear acceleration kept free of net torque
+     * per body (method.torque_projection, device/sph_torque_projection.h) */
+    bool torque_projection;
 } sph_features;
 
 void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,
@@ -55,6 +58,11 @@ bool sph_history_double(const sph_features *f);
  * or recomputed, device/sph_pair_geometry.h). */
 void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
                                 bool nbr_row_major, bool pair_recompute, char *buf, size_t len);
+
+/* Components of the substep reduction (device/reduction.cl, substep_ncomp)
+ * and the most any reduction of the run has: the rows of the partials. */
+int sph_substep_ncomp(const sph_features *f);
+int sph_partial_ncomp(const sph_features *f);
 
 /* The scalar parameter block `prm` of the kernels (device/sph_prelude.h,
  * PRM_*), in double; backends convert to their precision. */

@@ -209,6 +209,8 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(features, "material_model",
                            json_object_new_string(f->plastic ? "j2-plastic" : "elastic"));
     json_object_object_add(features, "clamp", json_object_new_boolean(f->has_clamp));
+    json_object_object_add(features, "torque_projection",
+                           json_object_new_boolean(f->torque_projection));
     json_object_object_add(features, "bodies", json_object_new_int(f->nbodies));
     json_object_object_add(features, "contact", json_object_new_boolean(f->contact));
     json_object_object_add(features, "walls", json_object_new_int(f->walls));

@@ -729,10 +729,10 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g, *rot_at;
     sph_status st = get_group(L, root, "method", true, &g);
-    if (st ||
-        (st = check_keys(L, g,
-                         KEYS("formulation", "rotation", "kernel", "smoothing_ratio", "xi_e",
-                              "xi_g", "riemann_limiter", "artificial_stress", "hourglass_alpha"))))
+    if (st || (st = check_keys(L, g,
+                               KEYS("formulation", "rotation", "torque_projection", "kernel",
+                                    "smoothing_ratio", "xi_e", "xi_g", "riemann_limiter",
+                                    "artificial_stress", "hourglass_alpha"))))
         return st;
     int formulation = 0, rotation = 0, kernel = 0;
     const config_setting_t *form_at;
@@ -773,6 +773,18 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
                        sph_formulation_name((sph_formulation)formulation),
                        formulation == SPH_FORMULATION_ENOG_A ? "enog" : "gnog");
     sc->rotation = (sph_rotation)rotation;
+    /* SPH-ENOG-A's accumulated shear acceleration kept free of net torque
+     * (device/sph_torque_projection.h): our addition to 003, off by default */
+    if ((st = get_bool(L, g, "torque_projection", false, &sc->torque_projection))) return st;
+    if (sc->torque_projection &&
+        (formulation != SPH_FORMULATION_ENOG_A || rotation != SPH_ROTATION_AVERAGED)) {
+        const config_setting_t *tp_at = config_setting_get_member(g, "torque_projection");
+        return fail_at(L, tp_at, NULL,
+                       "only formulation \"enog-a\" with rotation \"averaged\" has it, "
+                       "got formulation \"%s\" with rotation \"%s\"",
+                       sph_formulation_name((sph_formulation)formulation),
+                       sph_rotation_name((sph_rotation)rotation));
+    }
     if ((st = get_keyword(L, g, "kernel", false, SPH_KERNEL_WENDLAND_C2, KERNEL_NAMES,
                           (int)(sizeof KERNEL_NAMES / sizeof KERNEL_NAMES[0]), &kernel, NULL)))
         return st;

@@ -206,6 +206,7 @@ typedef struct {
     /* method */
     sph_formulation formulation;
     sph_rotation rotation;
+    bool torque_projection;           /* ENOG-A: a^s kept torque-free per body */
     double xi_e;                      /* default 0.7 d + 2.1 */
     double xi_g;                      /* GNOG: 4.0 elastic, 0.2 plastic; GNOG-A: 2.0 */
     double art_epsilon, art_exponent; /* OAS artificial stress: 0.3, 4 */

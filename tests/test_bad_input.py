@@ -318,6 +318,22 @@ ROWS = [
         ["{file}:{line}: walls.floor.normal: must be a non-zero vector"],
         [ed("analysis = {", 'walls = ( { name = "floor"; point = [0.0, -0.5]; '
             'normal = [0.0, 0.0]; } );\nanalysis = {')], marker='walls = ('),
+    Row("torque projection with a formulation that has none", 2,
+        ['{file}:{line}: method.torque_projection: only formulation "enog-a" with rotation '
+         '"averaged" has it, got formulation "gnog-a" with rotation "averaged"'],
+        [ed('  formulation = "enog-a";', '  formulation = "gnog-a";'),
+         ed('  rotation = "averaged";', '  rotation = "averaged";\n  torque_projection = true;')],
+        marker="torque_projection"),
+    Row("torque projection on a clamped body", 2,
+        ["{file}: method.torque_projection keeps the net torque of free bodies; this scene "
+         "constrains", "particles (clamp, rollers or a driven region), so leave it false"],
+        [ed('  rotation = "averaged";', '  rotation = "averaged";\n  torque_projection = true;')],
+        located=False),
+    Row("wrong type: a string for the torque projection", 2,
+        ['{file}:{line}: method.torque_projection: expected a boolean (true or false), '
+         'got a string'],
+        [ed('  rotation = "averaged";', '  rotation = "averaged";\n  torque_projection = "yes";')],
+        marker="torque_projection"),
     Row("walls with TLSPH", 2,
         ["{file}:{line}: method.formulation: \"tlsph\" has no wall contact"],
         [ed('  formulation = "enog-a";', '  formulation = "tlsph";'),

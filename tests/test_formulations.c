@@ -158,6 +158,40 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
         }
         sph_simulation_close(&sim);
     }
+    /* the torque projection (sph_torque_projection.h): only a scene that asks
+     * for it sums the moments, and only its substep reduction reads the
+     * positions, masses and accumulated shear acceleration */
+    for (int p = 0; p < 2; ++p) {
+        const char *plain[] = {"time.end=0.01"};
+        const char *projected[] = {"time.end=0.01", "method.torque_projection=true"};
+        sph_simulation sim;
+        sph_error err = {0};
+        const sph_status st = test_run_case("spinning_plate_2d", p ? projected : plain, p ? 2 : 1,
+                                            kind, SPH_PRECISION_DOUBLE, 5, &sim, &err);
+        CHECK(t, st == SPH_OK, "run: %s", err.msg);
+        if (st == SPH_OK) {
+            const sph_backend *be = sim.backend;
+            const char *what = p ? "ENOG-A projected" : "ENOG-A";
+            CHECK(t, sim.features.torque_projection == (p == 1), "%s: feature set", what);
+            if (kind == SPH_BACKEND_OPENCL) {
+                CHECK(t,
+                      strstr(be->build_options,
+                             p ? "-DSPH_TORQUE_PROJECTION=1" : "-DSPH_TORQUE_PROJECTION=0") != NULL,
+                      "%s: build options %s", what, be->build_options);
+                /* the substep reduction's entry, "substep_reduce...(args)" */
+                const char *entry = strstr(be->program_kernels, "substep_reduce");
+                const char *end = entry ? strchr(entry, '\n') : NULL;
+                const char *acc = entry ? strstr(entry, " acc_shear") : NULL;
+                CHECK(t, entry && (acc != NULL && (!end || acc < end)) == (p == 1),
+                      "%s: the substep reduction %s the accumulated shear acceleration", what,
+                      p ? "does not read" : "reads");
+            } else {
+                CHECK(t, (strstr(be->build_options, "torque_projection=1") != NULL) == (p == 1),
+                      "%s: build options %s", what, be->build_options);
+            }
+        }
+        sph_simulation_close(&sim);
+    }
     /* contact between bodies: only a scene with several bodies has the
      * contact pass, its count buffer and kernel arguments (the plate above
      * has one body; the colliding rings have two) */
