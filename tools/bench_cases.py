@@ -372,10 +372,17 @@ def main():
             r["case"], r["formulation"], r["quantity"],
             "—" if r["ours"] is None else "%.5g" % r["ours"], published(r),
             ("met" if r["met"] else "NOT met") if r["target"] else ""))
+    for r in results:
+        r["commit"] = meta["commit"]
     if a.json and os.path.exists(a.json):
-        # keep the rows not rerun this time (same suite, case and formulation)
+        # keep the rows not rerun this time (same suite, case and formulation); each row
+        # names the commit it was measured at (rows from before that field: at or before
+        # the commit of the file they come from)
         with open(a.json) as f:
-            old = json.load(f).get("results", [])
+            previous = json.load(f)
+        old = previous.get("results", [])
+        for r in old:
+            r.setdefault("commit", "<= " + previous.get("meta", {}).get("commit", "?"))
         rerun = {(r["suite"], r["case"], r["formulation"]) for r in results}
         results = [r for r in old if (r.get("suite"), r.get("case"), r.get("formulation"))
                    not in rerun] + results
@@ -386,16 +393,18 @@ def main():
     if a.markdown:
         lines = ["# Benchmark library: 3D and wall cases\n",
                  f"Produced by `{meta['command']}` on {meta['date']} ({meta['cores']} cores, "
-                 f"backend {meta['backend']}, commit {meta['commit']}).\n",
-                 "| case | formulation | quantity | sphsolid | published | target | run | wall (s) |",
-                 "|---|---|---|---|---|---|---|---|"]
+                 f"backend {meta['backend']}, commit {meta['commit']}), the rows of the other "
+                 "suites kept from earlier runs (commit column).\n",
+                 "| case | formulation | quantity | sphsolid | published | target | run | wall (s) "
+                 "| commit |",
+                 "|---|---|---|---|---|---|---|---|---|"]
         for r in results:
             target = (r["target"] + (": met" if r["met"] else ": **not met**")) \
                 if r["target"] else ""
             ours = "—" if r["ours"] is None else "%.4g" % r["ours"]
             lines.append(f"| {r['case']} | {r['formulation']} | {r['quantity']} | {ours} | "
                          f"{published(r)} | {target} | {r.get('status', '')} | "
-                         f"{r['wall_s']:.0f} |")
+                         f"{r['wall_s']:.0f} | {r.get('commit', '')} |")
         with open(a.markdown, "w") as f:
             f.write("\n".join(lines) + "\n")
     if a.png_dir and series:
