@@ -18,7 +18,13 @@
  *    penalty buffer, and its OpenCL program has no third pass and no kernel
  *    argument of those features; a plastic SPH-GNOG-A scene has them; a
  *    one-body scene has no contact pass, contact_count buffer or argument
- *    (-DSPH_CONTACT=0), the two-body colliding rings have them.
+ *    (-DSPH_CONTACT=0), the two-body colliding rings have them;
+ *  - the Laguerre-Wendland kernel at h = 2 dp (SPH-ENOG-A, the plate): at the
+ *    papers' acoustic CFL 0.4 the run blows up within 0.01 s (measured: the
+ *    speed check at 0.71 ms), at 0.2 (the kernel's default) it runs to 0.3 s
+ *    with the monitor quiet and a first period within 5 % of the thin-plate
+ *    0.2541 s (measured 0.2486 s): its stiffest lattice mode is 2.3 times
+ *    Wendland's, leapfrog's limit CFL 0.47 (tools/kernel_lattice_stiffness.py).
  */
 #include "test_support.h"
 
@@ -223,11 +229,40 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
     }
 }
 
+static void laguerre_wendland(test_counts *t, sph_backend_kind kind) {
+    for (int stable = 0; stable < 2; ++stable) {
+        const char *overrides[] = {"method.kernel=laguerre-wendland", "method.smoothing_ratio=2.0",
+                                   stable ? "time.cfl_acoustic=0.2" : "time.cfl_acoustic=0.4",
+                                   stable ? "time.end=0.3" : "time.end=0.01"};
+        sph_simulation sim;
+        sph_error err = {0};
+        const sph_status st = test_run_case("oscillating_plate_2d", overrides, 4, kind,
+                                            SPH_PRECISION_DOUBLE, 0, &sim, &err);
+        printf("plate, Laguerre-Wendland h = 2 dp, CFL %s: status %d, instability at t = %.4g s, "
+               "first period %.5f s, max zigzag indicator %.3g\n",
+               stable ? "0.2" : "0.4", (int)st, sim.stats.instability_time,
+               sim.metrics.first_period, max_zigzag(&sim.series));
+        if (!stable) {
+            CHECK(t, st == SPH_UNSTABLE && sim.stats.instability_time < 0.01,
+                  "Laguerre-Wendland at CFL 0.4: expected the blow-up (status %d, t = %.4g)",
+                  (int)st, sim.stats.instability_time);
+        } else {
+            CHECK(t, st == SPH_OK && isnan(sim.stats.instability_time),
+                  "Laguerre-Wendland at CFL 0.2: runs quietly to 0.3 s (%s)", err.msg);
+            CHECK(t, fabs(sim.metrics.first_period / 0.2541 - 1) < 0.05,
+                  "Laguerre-Wendland first period %.5f s, thin-plate 0.2541 s",
+                  sim.metrics.first_period);
+        }
+        sph_simulation_close(&sim);
+    }
+}
+
 int main(int argc, char **argv) {
     test_counts t = {0};
     const sph_backend_kind kind = test_backend_kind(argc, argv);
     compiled_features(&t, kind);
     plate_stability(&t, kind);
     plasticity(&t, kind);
+    laguerre_wendland(&t, kind);
     return test_summary("test_formulations", &t);
 }

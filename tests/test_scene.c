@@ -138,6 +138,32 @@ static void test_spinning_plate(test_counts *c) {
 }
 
 /* A material with its own sound speed (003 §5.2.3): K = rho0 c0^2, G from E, nu. */
+/* The acoustic CFL defaults to 0.4 (000, 003) and to 0.2 with the
+ * Laguerre-Wendland kernel, whose plate blows up at 0.3-0.4 (README,
+ * kernels); a scene's own value always wins.  The square Taylor bar states
+ * no CFL, the plate states 0.4. */
+static void test_kernel_cfl(test_counts *c) {
+    char bar[1024], plate[1024];
+    test_case_path("taylor_bar_square", bar, sizeof bar);
+    test_case_path("oscillating_plate_2d", plate, sizeof plate);
+    const char *lw[] = {"method.kernel=\"laguerre-wendland\""};
+    struct {
+        const char *path;
+        int noverrides;
+        double cfl;
+    } rows[] = {{bar, 0, 0.4}, {bar, 1, 0.2}, {plate, 1, 0.4}};
+    for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k) {
+        sph_scene s;
+        sph_error err = {0};
+        const sph_status st = sph_scene_load(&s, rows[k].path, lw, rows[k].noverrides, &err);
+        CHECK(c, st == SPH_OK, "load %s: %s", rows[k].path, err.msg);
+        if (st == SPH_OK)
+            CHECK(c, s.cfl_acoustic == rows[k].cfl, "row %zu: cfl_acoustic %g, expected %g", k,
+                  s.cfl_acoustic, rows[k].cfl);
+        sph_scene_free(&s);
+    }
+}
+
 static void test_sound_speed(test_counts *c) {
     sph_scene s;
     if (!load_case_scene(c, "high_velocity_impact", &s)) return;
@@ -750,6 +776,7 @@ int main(void) {
     test_oscillating_plate(&c);
     test_spinning_plate(&c);
     test_sound_speed(&c);
+    test_kernel_cfl(&c);
     test_overrides(&c);
     test_bad_inputs(&c);
     test_features(&c);

@@ -9,7 +9,15 @@ The accumulated force restores every mode only if D(k) is positive semi-definite
 with dW/dr > 0 at a lattice distance can make it negative (an unstable lattice). Prints, for
 each kernel of device/sph_smoothing_kernel.h and h/dp, the smallest eigenvalue of D over the
 Brillouin zone and the long-wave stiffness D(k)/|k|^2 along x (shear, longitudinal).
-Usage: tools/kernel_lattice_stiffness.py [--ratios 1.3 2 3] [--nk 41]
+
+It also gives the acoustic time step each kernel stands.  The linearised acoustic substep on
+the lattice (rho0 = 1, K = rho0 c0^2 = 1, G/K from --nu, xi_E = 3.5) is u'' = -M(k) u with
+    M(k) = K s s^T + 2 xi_E G D(k),   s = sum_j grad W(r_j) sin(k.r_j)
+(continuity then pressure gradient, and the ENOG Laplacian); leapfrog is stable while
+dt < 2 / omega_max, omega_max^2 the largest eigenvalue of M over the zone, i.e. for an
+acoustic CFL (dt = CFL h / c0) below 2 / (omega_max h).  The scheme applies the ENOG
+acceleration one substep late, which lowers the real limit further.
+Usage: tools/kernel_lattice_stiffness.py [--ratios 1.3 2 3] [--nk 41] [--nu 0.3975]
 """
 import argparse
 
@@ -53,17 +61,43 @@ def stiffness(name, h, nk):
     return lowest, long_wave
 
 
+def acoustic_limit(name, h, nk, nu, xi_e=3.5):
+    """omega_max (c0 / dp) of the linearised acoustic substep and the CFL 2 / (omega_max h)."""
+    reach = int(np.ceil(2 * h))
+    offsets = np.array([(a, b) for a in range(-reach, reach + 1) for b in range(-reach, reach + 1)
+                        if (a, b) != (0, 0) and np.hypot(a, b) < 2 * h], float)
+    r = np.hypot(offsets[:, 0], offsets[:, 1])
+    e = offsets / r[:, None]
+    dw = dw_dr(name, r, h)
+    g_over_k = 3 * (1 - 2 * nu) / (2 * (1 + nu))
+    ks = np.linspace(-np.pi, np.pi, nk)
+    largest = 0.0
+    for kx in ks:
+        for ky in ks:
+            phase = offsets @ np.array([kx, ky])
+            s = ((dw * np.sin(phase))[:, None] * e).sum(axis=0)
+            d = np.einsum("j,j,ja,jb->ab", -dw / r, 1 - np.cos(phase), e, e)
+            largest = max(largest, np.linalg.eigvalsh(np.outer(s, s) + 2 * xi_e * g_over_k * d)[-1])
+    omega = np.sqrt(largest)
+    return omega, 2 / (omega * h)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--ratios", type=float, nargs="+", default=[1.3, 2.0, 3.0], help="h / dp")
     ap.add_argument("--nk", type=int, default=41, help="wave numbers per axis")
+    ap.add_argument("--nu", type=float, default=0.3975,
+                    help="Poisson ratio for G/K (default: the 2D plate's)")
     args = ap.parse_args()
-    print("| kernel | h/dp | smallest eigenvalue of D(k) | at k | long-wave shear | long-wave longitudinal |")
-    print("|---|---|---|---|---|---|")
+    print("| kernel | h/dp | smallest eigenvalue of D(k) | at k | long-wave shear "
+          "| long-wave longitudinal | omega_max dp/c0 | CFL limit 2/(omega_max h) |")
+    print("|---|---|---|---|---|---|---|---|")
     for name in KERNELS:
         for h in args.ratios:
             (lo, kx, ky), (lon, shear) = stiffness(name, h, args.nk)
-            print(f"| {name} | {h:g} | {lo:+.4f} | ({kx:+.2f}, {ky:+.2f}) | {shear:+.4f} | {lon:+.4f} |")
+            omega, cfl = acoustic_limit(name, h, args.nk, args.nu)
+            print(f"| {name} | {h:g} | {lo:+.4f} | ({kx:+.2f}, {ky:+.2f}) | {shear:+.4f} "
+                  f"| {lon:+.4f} | {omega:.3f} | {cfl:.3f} |")
 
 
 if __name__ == "__main__":
