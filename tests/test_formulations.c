@@ -37,6 +37,14 @@ static double max_zigzag(const sph_timeseries *ts) {
     return z;
 }
 
+/* The plate case (cases/oscillating_plate_2d) with these overrides, double
+ * precision, on one backend. */
+static sph_status run_plate(sph_backend_kind kind, const char *const *overrides, int count,
+                            sph_simulation *sim, sph_error *err) {
+    return test_run_case("oscillating_plate_2d", overrides, count, kind, SPH_PRECISION_DOUBLE, 0,
+                         sim, err);
+}
+
 static void plate_stability(test_counts *t, sph_backend_kind kind) {
     struct {
         const char *formulation, *rotation;
@@ -52,8 +60,7 @@ static void plate_stability(test_counts *t, sph_backend_kind kind) {
         const char *overrides[] = {f, rot, "time.end=0.05", "time.output_interval=0.002"};
         sph_simulation sim;
         sph_error err = {0};
-        const sph_status st = test_run_case("oscillating_plate_2d", overrides, 4, kind,
-                                            SPH_PRECISION_DOUBLE, 0, &sim, &err);
+        const sph_status st = run_plate(kind, overrides, 4, &sim, &err);
         printf("plate %s on %s: status %d, instability at t = %.4g s (%s %.3g), max zigzag "
                "indicator %.3g\n",
                runs[r].formulation, kind == SPH_BACKEND_CPU ? "cpu" : "opencl", (int)st,
@@ -236,8 +243,7 @@ static void laguerre_wendland(test_counts *t, sph_backend_kind kind) {
                                    stable ? "time.end=0.3" : "time.end=0.01"};
         sph_simulation sim;
         sph_error err = {0};
-        const sph_status st = test_run_case("oscillating_plate_2d", overrides, 4, kind,
-                                            SPH_PRECISION_DOUBLE, 0, &sim, &err);
+        const sph_status st = run_plate(kind, overrides, 4, &sim, &err);
         printf("plate, Laguerre-Wendland h = 2 dp, CFL %s: status %d, instability at t = %.4g s, "
                "first period %.5f s, max zigzag indicator %.3g\n",
                stable ? "0.2" : "0.4", (int)st, sim.stats.instability_time,
