@@ -122,8 +122,7 @@ FN void accumulate_increment(GLOBAL hreal *restrict acc, GLOBAL real *restrict d
     if (rotation == ROTATION_NONE) {
         hvec_add_store(acc, n, i, da);
     } else if (rotation == ROTATION_PER_PARTICLE) {
-        hvec_rotate(acc, n, i, rodrigues(spin_of(grad_v), dt), vec_zero());
-        hvec_add_store(acc, n, i, da);
+        hvec_rotate(acc, n, i, rodrigues(spin_of(grad_v), dt), vec_zero(), da);
     } else if (PRESENT(dacc)) {
         vec_store(dacc, n, i, da);
     }
@@ -217,20 +216,21 @@ KERNEL void acoustic_pressure(
          * da^s added after the rotation, the difference being the one-step
          * lag of the increment; 1.05 % with the mid-interval geometry
          * (README, "SPH-ENOG-A rotation"). */
-        a_s = hvec_rotate(acc_shear, n, i, rbar, vec_load(dacc_shear, n, i));
+        vec post = vec_zero();
 #    if SPH_HAS_TORQUE_PROJECTION
         if (RUNTIME_TORQUE_PROJECTION) {
             /* less the rigid field that carries the turned sum's net torque
-             * at this substep's kick positions (sph_torque_projection.h) */
+             * at this substep's kick positions (sph_torque_projection.h);
+             * alpha and c are the body's, formed here from its sums as
+             * Rbar is by mean_rotation */
             real alpha[NSPIN];
             vec centre;
             torque_field(substep_sums + torque_offset(prm, BODY_OF(i)), rbar, dt, alpha, &centre);
             const vec x_half = vec_axpy(hvec_load(pos, n, i), half_dt, vec_load(vel, n, i));
-            const vec field = torque_field_at(alpha, centre, x_half);
-            hvec_add_store(acc_shear, n, i, vec_scale(field, R(-1)));
-            a_s = vec_sub(a_s, field);
+            post = vec_scale(torque_field_at(alpha, centre, x_half), R(-1));
         }
 #    endif
+        a_s = hvec_rotate(acc_shear, n, i, rbar, vec_load(dacc_shear, n, i), post);
     }
 #endif
 

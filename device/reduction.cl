@@ -95,21 +95,13 @@ FN int substep_ncomp(CONSTANT real *prm) {
     const int torque = SPH_HAS_TORQUE_PROJECTION && RUNTIME_TORQUE_PROJECTION ? TORQUE_NCOMP : 0;
     return 1 + RUNTIME_NBODIES * (SPH_DIM * SPH_DIM + torque);
 }
-#if SPH_HAS_TORQUE_PROJECTION
-#    define TORQUE_CONTRIB_PARAMS                                                                  \
-        , GLOBAL const hreal *pos, GLOBAL const real *mass, GLOBAL const hreal *acc_shear,         \
-            GLOBAL const real *dacc_shear
-#    define TORQUE_CONTRIB_ARGS , pos, mass, acc_shear, dacc_shear
-#else
-#    define TORQUE_CONTRIB_PARAMS
-#    define TORQUE_CONTRIB_ARGS
-#endif
 /* Components: max |v|^2; then per body the summed R_i (d*d, by sum); then,
  * with the torque projection, per body the moments of
  * sph_torque_projection.h (TORQUE_NCOMP, by sum; at torque_offset). */
 FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *prm,
-                        GLOBAL const real *vel, GLOBAL const real *spin,
-                        GLOBAL const u8 *body TORQUE_CONTRIB_PARAMS, real *c) {
+                        GLOBAL const real *vel, GLOBAL const real *spin, GLOBAL const u8 *body,
+                        GLOBAL const hreal *pos, GLOBAL const real *mass,
+                        GLOBAL const hreal *acc_shear, GLOBAL const real *dacc_shear, real *c) {
     const vec v = vec_load(vel, n, i);
     const real v2 = vec_dot(v, v);
     /* the max reduction (fmax) would drop a NaN: make it the largest value,
@@ -125,8 +117,8 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *
     UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int e = 0; e < SPH_DIM; ++e)
         c[1 + (b * SPH_DIM + a) * SPH_DIM + e] = rot.m[a][e];
 #if SPH_HAS_TORQUE_PROJECTION
-    /* y = x^{n+1}, w = v^{n+1}, b = a^s + da^s: what the next substep's
-     * acoustic_pressure turns by Rbar and applies at y + dt/2 w */
+    /* (the buffers exist in programs with the projection only) y = x^{n+1}, w = v^{n+1}, b = a^s +
+     * da^s: what the next substep's acoustic_pressure turns by Rbar and applies at y + dt/2 w */
     if (RUNTIME_TORQUE_PROJECTION && PRESENT(dacc_shear))
         torque_moments(mass[i], hvec_load(pos, n, i), v,
                        vec_add(hvec_load(acc_shear, n, i), vec_load(dacc_shear, n, i)),
@@ -232,10 +224,12 @@ rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos
 #        define REDUCE_BODY_PARAMS
 #    endif
 #    if SPH_HAS_TORQUE_PROJECTION
+#        define TORQUE_ARGS pos, mass, acc_shear, dacc_shear
 #        define REDUCE_TORQUE_PARAMS                                                               \
             , GLOBAL const hreal *restrict pos, GLOBAL const real *restrict mass,                  \
                 GLOBAL const hreal *restrict acc_shear, GLOBAL const real *restrict dacc_shear
 #    else
+#        define TORQUE_ARGS 0, 0, 0, 0
 #        define REDUCE_TORQUE_PARAMS
 #    endif
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce(
@@ -244,9 +238,8 @@ __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce
     REDUCE_SCRATCH;
     STEP_DT_BEGIN;
     const int ncomp = substep_ncomp(prm);
-    REDUCE_PARTICLES(
-        1, ncomp, SUBSTEP_NCOMP_MAX,
-        substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG TORQUE_CONTRIB_ARGS, c));
+    REDUCE_PARTICLES(1, ncomp, SUBSTEP_NCOMP_MAX,
+                     substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, TORQUE_ARGS, c));
 }
 
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
@@ -320,7 +313,7 @@ __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce
     const int g = get_global_id(0);
     if (g >= ngroups) return;
     REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
-                 substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG TORQUE_CONTRIB_ARGS, c));
+                 substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, TORQUE_ARGS, c));
     mem_fence(CLK_GLOBAL_MEM_FENCE);
     if (atomic_inc(blocks_done) != ngroups - 1) return;
     mem_fence(CLK_GLOBAL_MEM_FENCE);

@@ -208,18 +208,20 @@ FN void sym_store(GLOBAL real *buf, const int n, const int i, const mat x) {
         buf[sym_index(a, b) * n + i] = x.m[a][b];
 }
 
-/* buf_i <- rot (buf_i + pre), the products summed in hreal; returns the new
- * value.  Turns an accumulated acceleration with the body (003 eqs. 34,
- * 42, 47) without rounding it to real. */
-FN vec hvec_rotate(GLOBAL hreal *buf, const int n, const int i, const mat rot, const vec pre) {
+/* buf_i <- rot (buf_i + pre) + post, the products summed in hreal; returns
+ * the new value (the turned part rounded to real, then post added).  Turns an accumulated
+ * acceleration with the body (003 eqs. 34, 42, 47) without rounding it to real, and adds what
+ * follows the turn in the same pass. */
+FN vec hvec_rotate(GLOBAL hreal *buf, const int n, const int i, const mat rot, const vec pre,
+                   const vec post) {
     hreal s[SPH_DIM];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) s[a] = buf[a * n + i] + (hreal)pre.c[a];
     vec r;
     UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         hreal t = (hreal)0;
         UNROLL for (int b = 0; b < SPH_DIM; ++b) t += (hreal)rot.m[a][b] * s[b];
-        buf[a * n + i] = t;
-        r.c[a] = (real)t;
+        buf[a * n + i] = t + (hreal)post.c[a];
+        r.c[a] = (real)t + post.c[a];
     }
     return r;
 }
