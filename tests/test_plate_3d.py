@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """test_plate_3d.py BACKEND — the 3D simply supported plate (cases/oscillating_plate_3d).
 
-Mode (2, 2) at H/dp = 3 (44 652 particles, SPH-ENOG-A) to t = 0.009 s, past the first
-kinetic-energy maximum after the start (half a period).  The public reference code ran this
+Mode (2, 2) at H/dp = 3 (44 652 particles, SPH-ENOG-A, h = 1.15 dp as the case states) to
+t = 0.016 s, past the first period.  The public reference code ran this
 very lattice (reference notes §6.3: one ring of particles outside the edges, the mid-plane
 layer of the ring held in z) and stored its kinetic energy, 0.200006 at t = 0, 0.196374 at
 its first maximum after the start.  Checks:
@@ -17,8 +17,10 @@ its first maximum after the start.  Checks:
 - the motion keeps the mode's symmetry: linear momentum at round-off, the observers at
   (L/4, W/4) and at the centre (a node of (2, 2)) as the mode shape says: the centre's z
   stays below 1e-3 of the quarter point's amplitude;
-- reported, not asserted: the half period, from the quarter point's return through z = 0
-  (7.84 ms here against 7.45 ms from 003's 0.0149 s: the README's "Known deviations").
+- the first period (the quarter point's second pass through z = 0 after the start, the solver's
+  `first_period`) lies within 3 % of 003 Table 3's 0.0149 s (issue 4's bound; measured
+  0.014853 s; 0.01566 s, +5.1 %, with the h = 1.3 dp that 003's text states, the case's
+  README), and the half period (its first downward pass) within 3 % of 7.45 ms.
 """
 import os
 import shutil
@@ -36,14 +38,15 @@ tmp = tempfile.mkdtemp(prefix="sphsolid-plate3d-")
 try:
     scene = os.path.join(SRC, "cases", "oscillating_plate_3d", "scene.cfg")
     out = os.path.join(tmp, "plate")
-    sets = ["time.end=0.009", "output.snapshot_interval=0.003", "analysis.period.observer=quarter"]
+    sets = ["time.end=0.016", "output.snapshot_interval=0.003", "analysis.period.observer=quarter"]
     summ, ts = run_quiet(scene, BACKEND, out, sets, timeout=1800)
     if summ is not None:
         t, ke = ts["time"], ts["kinetic_energy"]
         check(abs(ke[0] / 0.200006 - 1) < 1e-4, f"initial kinetic energy {ke[0]:.7f} J "
               "(reference code 0.200006)")
-        k_min = int(np.argmin(ke))
-        k_max = k_min + int(np.argmax(ke[k_min:]))
+        first_half = int(np.searchsorted(t, 0.009))  # to past the first maximum
+        k_min = int(np.argmin(ke[:first_half]))
+        k_max = k_min + int(np.argmax(ke[k_min:first_half]))
         check(abs(ke[k_max] / 0.196374 - 1) < 0.02, f"first kinetic-energy maximum "
               f"{ke[k_max]:.5f} J at {1e3 * t[k_max]:.2f} ms (reference code 0.196374)")
         zq, zc = ts["quarter_z"], ts["centre_z"]
@@ -64,9 +67,14 @@ try:
         up = np.nonzero((zq[1:] <= 0) & (zq[:-1] > 0))[0]
         half = t[up[0]] + (t[up[0] + 1] - t[up[0]]) * zq[up[0]] / (zq[up[0]] - zq[up[0] + 1]) \
             if len(up) else float("nan")
+        period = summ.get("metrics", {}).get("first_period")
+        check(period is not None and abs(period / 0.0149 - 1) <= 0.03,
+              f"first period {period} s within 3 % of 003's 0.0149 s")
+        check(abs(half / 0.00745 - 1) <= 0.03,
+              f"half period {1e3 * half:.3f} ms within 3 % of 7.45 ms")
         print("3D plate (2,2) H/dp = 3: KE0 %.7f J, first KE maximum %.5f J at %.2f ms, half "
-              "period %.2f ms (003: 7.45 ms), supports %.3g m" %
-              (ke[0], ke[k_max], 1e3 * t[k_max], 1e3 * half, drift))
+              "period %.2f ms, first period %.3f ms (003: 14.9 ms), supports %.3g m" %
+              (ke[0], ke[k_max], 1e3 * t[k_max], 1e3 * half, 1e3 * (period or 0), drift))
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 finish("test_plate_3d_" + BACKEND)
