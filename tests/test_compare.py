@@ -7,7 +7,6 @@ exactly as docs/output-format.md describes, so the test does not depend on the
 solver or the snapshot writer."""
 import json
 import os
-import re
 import shutil
 import subprocess
 import sys

@@ -17,7 +17,7 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import BIN, PLATE, SRC, check, finish  # noqa: E402
+from sphtest import BIN, PLATE, check, finish  # noqa: E402
 
 
 def run(args, **kw):

@@ -18,10 +18,9 @@ import tempfile
 import time
 
 import h5py
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import BIN, PLATE, SRC, check, finish  # noqa: E402
+from sphtest import BIN, PLATE, check, finish  # noqa: E402
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 END = "0.2"

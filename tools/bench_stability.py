@@ -113,7 +113,7 @@ def stable_cell(r):
 
 
 def markdown(results, meta):
-    lines = [f"# Stiff and extreme suite\n",
+    lines = ["# Stiff and extreme suite\n",
              f"Produced by `{meta['command']}` on {meta['date']} ({meta['host']}, backend "
              f"{meta['backend']}, commit {meta['commit']}). Every run has the instability "
              f"monitor on with its default thresholds (`docs/scene-format.md`, `monitor`) and "

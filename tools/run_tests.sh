@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite: a warnings-as-errors release build with every test on
 # the native backend and on OpenCL (pocl in CI), then an ASan/UBSan build
-# running the native-backend tests, then the clang-format check.
+# running the native-backend tests, then the clang-format and pyflakes checks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -39,4 +39,6 @@ fi
 # formatting: the sources match .clang-format
 git ls-files 'host/*.c' 'host/*.h' 'device/*.h' 'device/*.cl' 'tests/*.c' 'tests/*.h' |
   xargs clang-format --dry-run --Werror
+# the Python tests and tools: no unused names, undefined names or dead f-strings
+git ls-files '*.py' | xargs pyflakes3
 echo "all tests passed"
