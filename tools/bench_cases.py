@@ -51,6 +51,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plate3d_operator_period import TABLE3, TABLE3_RATIOS  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get("SPHSOLID_BIN", os.path.join(ROOT, "build", "sphsolid"))
 CUBE = os.path.join(ROOT, "cases", "spinning_cube_3d", "scene.cfg")
@@ -80,12 +83,11 @@ ROUND_REFERENCE_KE = [
     209.580, 192.823, 181.553, 171.150, 161.251, 152.085, 142.605, 132.675, 123.128, 114.346,
     104.976, 95.999, 87.351, 78.828, 70.710, 63.156, 55.747, 48.690, 42.077, 36.088, 30.516,
     25.219, 20.412, 16.357, 12.746, 9.588, 6.891, 4.655, 2.879, 1.552, 0.655]
-# 003 Table 3 (reference numbers): (formulation, mode) -> first period (s) at H/dp = 3, 5, 9
-PLATE_PAPER = {("enog-a", "1,1"): (0.0573, 0.0543, 0.0528),
-               ("enog-a", "2,1"): (0.0231, 0.0218, 0.0212),
-               ("enog-a", "2,2"): (0.0149, 0.0141, 0.0136),
-               ("gnog-a", "2,2"): (0.0153, 0.0144, 0.0138)}
-PLATE_RATIOS = (3, 5, 9)
+# 003 Table 3 (reference numbers): (formulation, mode) -> first period (s) at H/dp = 3, 5, 9,
+# for the rows the suite runs
+PLATE_PAPER = {(f, f"{m},{n}"): TABLE3[f][(m, n)]
+               for f, m, n in (("enog-a", 1, 1), ("enog-a", 2, 1), ("enog-a", 2, 2),
+                               ("gnog-a", 2, 2))}
 # per mode: end time (a little over one period) and the observer on an antinode
 PLATE_MODE_RUN = {"1,1": (0.07, "centre"), "2,1": (0.03, "half"), "2,2": (0.02, "quarter")}
 
@@ -225,7 +227,7 @@ def main():
     ap.add_argument("--plate3d-modes", nargs="+", default=["1,1", "2,1", "2,2"],
                     choices=["1,1", "2,1", "2,2"], help="plate3d: the modes (m,n)")
     ap.add_argument("--plate3d-ratios", nargs="+", type=int, default=[3],
-                    choices=PLATE_RATIOS, help="plate3d: the resolutions H/dp")
+                    choices=TABLE3_RATIOS, help="plate3d: the resolutions H/dp")
     ap.add_argument("--balls-dp", type=float, default=0.002, help="balls: the spacing")
     ap.add_argument("--ballplate3d-dp", type=float, default=0.005,
                     help="ballplate3d: the spacing")
@@ -303,7 +305,7 @@ def main():
             if 3 in a.plate3d_ratios and "2,2" in a.plate3d_modes:
                 runs.append((3, "enog-a", "2,2", 1.3))  # the smoothing length 003's text states
             for ratio, f, mode, h_ratio in runs:
-                paper = PLATE_PAPER[(f, mode)][PLATE_RATIOS.index(ratio)]
+                paper = PLATE_PAPER[(f, mode)][TABLE3_RATIOS.index(ratio)]
                 end, observer = PLATE_MODE_RUN[mode]
                 name = f"plate3d-{ratio}-{f}-{mode.replace(',', '')}"
                 sets = [f"method.formulation={f}", f"time.end={end}",

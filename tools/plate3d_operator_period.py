@@ -37,12 +37,13 @@ import argparse
 
 import numpy as np
 
-# 003 Table 3, first periods (s) at H/dp = 3, 5, 9 (paper-numbers.md)
+# 003 Table 3, first periods (s) at H/dp = 3, 5, 9 (paper-numbers.md); also read by
+# tools/bench_cases.py and tests/test_plate_3d.py
 TABLE3 = {"enog-a": {(1, 1): (0.0573, 0.0543, 0.0528), (2, 1): (0.0231, 0.0218, 0.0212),
                      (2, 2): (0.0149, 0.0141, 0.0136)},
           "gnog-a": {(1, 1): (0.0581, 0.0553, 0.0538), (2, 1): (0.0241, 0.0226, 0.0220),
                      (2, 2): (0.0153, 0.0144, 0.0138)}}
-COLUMNS = {3: 0, 5: 1, 9: 2}
+TABLE3_RATIOS = (3, 5, 9)  # the H/dp of Table 3's columns
 
 
 def operator_period(layers, mode, ratio, formulation="enog-a", length=0.4, thickness=0.01,
@@ -127,7 +128,7 @@ def main():
                 cells = []
                 for n in a.layers:
                     t = operator_period(n, mode, ratio, f)
-                    ref = published[COLUMNS[n]] if n in COLUMNS else None
+                    ref = published[TABLE3_RATIOS.index(n)] if n in TABLE3_RATIOS else None
                     cells.append(f"H/dp={n}: {t:.5f}" +
                                  (f" ({100 * (t / ref - 1):+.1f} %)" if ref else ""))
                 print(f"{f}, h = {ratio:g} dp, mode {mode}: " + ", ".join(cells))
