@@ -3,9 +3,13 @@
 
 For each formulation (default SPH-OG, SPH-OAS, SPH-ENOG, SPH-ENOG-A, SPH-GNOG-A):
 
-  nu       the 2D oscillating plate (cases/oscillating_plate_2d, v_f of the case) and the 2D
-           spinning plate (cases/spinning_plate_2d) at Poisson's ratio 0.3, 0.45, 0.49,
-           0.499 (Young's modulus kept, so c0 grows as 1/sqrt(1 - 2 nu));
+  nu       the 2D oscillating plate (cases/oscillating_plate_2d) and the 2D spinning plate
+           (cases/spinning_plate_2d) at Poisson's ratio 0.3, 0.45, 0.49, 0.499, Young's
+           modulus kept, so c0 grows as 1/sqrt(1 - 2 nu).  The plate keeps the case's tip
+           speed, 0.05 c0 at its nu = 0.3975 (2.851 m/s), so that only the material changes
+           (--plate-speed c0 gives it 0.05 of each nu's own c0 instead: 9.1 m/s at 0.49 and
+           29 m/s at 0.499, a tip amplitude of about 1.8 and 5.7 plate lengths in linear
+           theory); its first period is compared with thin-plate theory at that nu;
   long     the plate over >= 30 oscillation periods (energy decay, any late zigzag);
   tensile  cases/tensile_2d: a 1 x 1 m plate, E = 2.1e10, pulled at 500 m/s to 1 ms (its
            scene does not stop on the zigzag indicator: the grips' velocity jump reads as
@@ -19,9 +23,8 @@ trip), minimum pair distance over dp, energy drift (final and largest E/E0 - 1),
 angular-momentum error (spinning plate), wall time.  The papers' expectation: SPH-OG fails
 early, SPH-OAS degrades, SPH-ENOG-A and SPH-GNOG-A stay stable.
 
-Cases of the suite that need contact, constraints or plasticity scenes the case library
-does not have yet (rings at 0.06-0.08 c0, ball-plate at 0.02-0.12 c0, the tensile test at
-E = 2.1e10, the Taylor bars, the 3100 m/s impact) are listed as not yet available.
+The plastic impacts (the round and square Taylor bars, the 3100 m/s impact) are run by
+tools/bench_cases.py against their published numbers; the table lists them there.
 
 Writes JSON (--json) and a Markdown table (--markdown).  Usage:
   tools/bench_stability.py --json bench-results/stability.json --markdown docs/stability.md
@@ -33,12 +36,16 @@ import argparse
 import csv
 import datetime
 import json
+import math
 import os
 import platform
 import subprocess
 import sys
 import tempfile
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_core import thin_plate_period  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get("SPHSOLID_BIN", os.path.join(ROOT, "build", "sphsolid"))
@@ -49,14 +56,25 @@ RINGS = os.path.join(ROOT, "cases", "colliding_rings_2d", "scene.cfg")
 BALL_PLATE = os.path.join(ROOT, "cases", "ball_plate_2d", "scene.cfg")
 RING_C0 = 117.85113019775793   # sqrt(E / (3 (1 - 2 nu) rho0)), E = 1e7, nu = 0.4, rho0 = 1200
 BALL_C0 = 372.67799624996494   # the same at nu = 0.49
+PLATE_E, PLATE_RHO, PLATE_NU, PLATE_VF = 2.0e6, 1000.0, 0.3975, 0.05  # the plate case's
+
+
+def plate_c0(nu):
+    """The plate's bulk sound speed at Poisson's ratio nu, E kept: sqrt(K / rho0)."""
+    return math.sqrt(PLATE_E / (3.0 * (1.0 - 2.0 * nu) * PLATE_RHO))
+
+
+PLATE_TIP_SPEED = PLATE_VF * plate_c0(PLATE_NU)  # 2.851 m/s
 FORMULATIONS = ["og", "oas", "enog", "enog-a", "gnog", "gnog-a"]
 DEFAULT_FORMULATIONS = ["og", "oas", "enog", "enog-a", "gnog-a"]
 ROTATING = ("enog-a", "gnog-a")
 NUS = [0.3, 0.45, 0.49, 0.499]
-NOT_YET = [
-    ("round Taylor bar", "the published HEMP, CSQ, FLIP and RKPM values (issue 4); the square "
-     "bar is cases/taylor_bar_square, benchmarked by tools/bench_cases.py"),
-    ("high-velocity impact, 3100 m/s", "contact between plastic bodies (issue 4)"),
+ELSEWHERE = [
+    ("round Taylor bar, 373 m/s", "cases/taylor_bar_round: the top against the reference "
+     "code's run"),
+    ("square Taylor bar, 227 m/s", "cases/taylor_bar_square: the observer against 003 Table 4"),
+    ("high-velocity impact, 3100 m/s", "cases/high_velocity_impact: the projectile's speed at "
+     "8 µs"),
 ]
 
 
@@ -130,24 +148,33 @@ def markdown(results, meta):
         lines.append(f"## {title}\n")
         lines.append(rs[0]["description"] + "\n")
         col = "v0 / c0" if suite in ("rings", "ballplate") else "ν"
+        periods = suite == "plate_nu"
+        extra = (" tip speed (m/s) | first period (s) | thin plate (s) | deviation |"
+                 if periods else "")
         lines.append(f"| formulation | {col} | stable | min r/dp | max zigzag | E(end)/E0 − 1 | "
-                     "max E/E0 − 1 | max AM error | wall (s) |")
-        lines.append("|---|---|---|---|---|---|---|---|---|")
+                     f"max E/E0 − 1 | max AM error | wall (s) |{extra}")
+        lines.append("|---|---|---|---|---|---|---|---|---|" + ("---|" * 4 if periods else ""))
         for r in rs:
             am = r.get("angular_momentum_error") if suite == "spin_nu" else None
+            cells = ""
+            if periods:
+                t, theory = r.get("first_period"), r.get("thin_plate_period")
+                dev = None if t is None else 100.0 * (t / theory - 1.0)
+                cells = (f" {fmt(r.get('tip_speed'), '.3f')} | {fmt(t, '.4f')} | "
+                         f"{fmt(theory, '.4f')} | {fmt(dev, '+.1f')}{'' if dev is None else ' %'} |")
             lines.append(
                 f"| {r['formulation']} | {r.get('v0_c0', r['nu'])} | {stable_cell(r)} | "
                 f"{fmt(r.get('min_distance_ratio'), '.3f')} | {fmt(r.get('max_zigzag'), '.3g')} | "
                 f"{fmt(r.get('energy_drift_final'), '+.3g')} | "
                 f"{fmt(r.get('energy_growth_max'), '+.2g')} | "
                 f"{fmt(None if am is None else 100 * am, '.2f')}{'' if am is None else ' %'} | "
-                f"{r['wall_s']:.1f} |")
+                f"{r['wall_s']:.1f} |{cells}")
         lines.append("")
-    lines.append("## Not yet available\n")
-    lines.append("| case | needs |")
+    lines.append("## Plastic impacts (`tools/bench_cases.py`, `docs/cases.md`)\n")
+    lines.append("| case | scene and quantity |")
     lines.append("|---|---|")
-    for case, need in NOT_YET:
-        lines.append(f"| {case} | {need} |")
+    for case, what in ELSEWHERE:
+        lines.append(f"| {case} | {what} |")
     lines.append("")
     return "\n".join(lines)
 
@@ -161,6 +188,9 @@ def main():
     ap.add_argument("--nus", nargs="+", type=float, default=NUS)
     ap.add_argument("--backend", default="cpu", choices=["cpu", "opencl"])
     ap.add_argument("--plate-ratio", type=float, default=6.0, help="plate H/dp (default 6)")
+    ap.add_argument("--plate-speed", default="fixed", choices=["fixed", "c0"],
+                    help="nu suite's plate: the case's tip speed at every nu (fixed, "
+                         f"{PLATE_TIP_SPEED:.3f} m/s) or {PLATE_VF} of each nu's c0")
     ap.add_argument("--spin-dp", type=float, default=0.05, help="spinning plate dp")
     ap.add_argument("--end", type=float, default=0.5, help="end time of the nu runs (s)")
     ap.add_argument("--long-periods", type=float, default=30.0)
@@ -175,13 +205,21 @@ def main():
     for form in args.formulations:
         if "nu" in args.suites:
             for nu in args.nus:
+                vf = PLATE_TIP_SPEED / plate_c0(nu) if args.plate_speed == "fixed" else PLATE_VF
                 r = run_case(PLATE, "plate", form,
                              plate_sets + [f"materials.plate.poisson_ratio={nu}",
+                                           f"bodies.plate.initial_velocity.amplitude_c0={vf:.10g}",
                                            f"time.end={args.end}"],
                              out_root, args.backend, f"plate-{form}-{nu}")
-                r.update(suite="plate_nu", nu=nu, description=(
-                    f"Plate of cases/oscillating_plate_2d at H/dp = {args.plate_ratio:g} to "
-                    f"t = {args.end:g} s, E = 2e6 Pa kept, ν varied."))
+                speed = ("the case's tip speed at every ν, 0.05 c0 at its ν = 0.3975 "
+                         f"({PLATE_TIP_SPEED:.3f} m/s)" if args.plate_speed == "fixed" else
+                         f"a tip speed of {PLATE_VF} of each ν's own c0")
+                r.update(suite="plate_nu", nu=nu, tip_speed=vf * plate_c0(nu),
+                         thin_plate_period=thin_plate_period(nu), description=(
+                             f"Plate of cases/oscillating_plate_2d at H/dp = {args.plate_ratio:g} "
+                             f"to t = {args.end:g} s, E = 2e6 Pa kept, ν varied, with {speed}; "
+                             "first period against thin-plate theory at that ν (003 eq. 52, "
+                             "plane strain)."))
                 results.append(r)
                 print(f"plate  {form:7s} nu={nu:<6} {stable_cell(r):45s} "
                       f"min r/dp {fmt(r.get('min_distance_ratio'), '.3f')} "
