@@ -28,6 +28,8 @@ requested grid are missing).  Cheap runs go first.
   tools/error_vs_runtime.py                                # the full grid
   tools/error_vs_runtime.py --formulations enog-a --precisions double --ratios 5 8 \\
       --dps 0.1 --label "validation, measured under load" --png /tmp/e.png --csv /tmp/e.csv
+  tools/error_vs_runtime.py --backends cpu --plate3d-ratios --grid \\
+      enog-a:double,single,mixed gnog-a:double,single,mixed enog gnog oas   # the README's
 """
 import argparse
 import csv
@@ -45,7 +47,7 @@ from bench_core import (BIN, PLATE, REFERENCE_CODE_H10_SECONDS, ROOT, ROTATING, 
 from bench import (PLATE_3D, PLATE_3D_THICKNESS, SPINNING, full_environment,  # noqa: E402
                    loadavg)
 
-FORMULATIONS = ["enog-a", "gnog-a", "enog", "oas"]
+FORMULATIONS = ["enog-a", "gnog-a", "enog", "gnog", "oas"]
 THEORY = thin_plate_period(0.3975)  # 0.25406 s, the plate's nu
 
 
@@ -62,8 +64,10 @@ THEORIES = {"plate": THEORY, "plate3d": THEORY_3D}
 # v_f = 0.05, t = 1 s on an idle 2-core machine: zero crossings 0.1434, 0.2874, ... s
 # (reference notes §11); its first period by our definition (second zero crossing)
 REFERENCE_FIRST_PERIOD = 0.2874
-LABELS = {"enog-a": "SPH-ENOG-A", "gnog-a": "SPH-GNOG-A", "enog": "SPH-ENOG", "oas": "SPH-OAS"}
-COLOURS = {"enog-a": "tab:blue", "gnog-a": "tab:orange", "enog": "tab:green", "oas": "tab:red"}
+LABELS = {"enog-a": "SPH-ENOG-A", "gnog-a": "SPH-GNOG-A", "enog": "SPH-ENOG", "gnog": "SPH-GNOG",
+          "oas": "SPH-OAS"}
+COLOURS = {"enog-a": "tab:blue", "gnog-a": "tab:orange", "enog": "tab:green", "gnog": "tab:purple",
+           "oas": "tab:red"}
 # one marker per precision: filled circle double, open square mixed, open triangle single
 PRECISION_MARKERS = {"double": "o", "mixed": "s", "single": "^"}
 
@@ -72,6 +76,24 @@ def method_sets(form):
     rotation = "averaged" if form in ROTATING else "none"
     return [f"method.formulation={form}", f"method.rotation={rotation}",
             "monitor.action=report", "output.snapshot_interval=0"]
+
+
+def grid(args):
+    """(formulation, precisions) pairs: --grid's, else every --formulations with every
+    --precisions."""
+    if not args.grid:
+        return [(form, args.precisions) for form in args.formulations]
+    pairs = []
+    for entry in args.grid:
+        form, _, precs = entry.partition(":")
+        precisions = precs.split(",") if precs else ["double"]
+        bad = [x for x in [form] if x not in FORMULATIONS] + \
+            [x for x in precisions if x not in ("double", "single", "mixed")]
+        if bad:
+            sys.exit(f"error_vs_runtime.py: --grid {entry}: unknown {', '.join(bad)} "
+                     f"(formulations {', '.join(FORMULATIONS)}; double, single, mixed)")
+        pairs.append((form, precisions))
+    return pairs
 
 
 def plan(args):
@@ -83,8 +105,8 @@ def plan(args):
                ("spinning", SPINNING, args.dps, args.spinning_end,
                 lambda dp: f"resolution.dp={dp:g}")]
     runs = []
-    for form in args.formulations:
-        for prec in args.precisions:
+    for form, precisions in grid(args):
+        for prec in precisions:
             for be in args.backends:
                 def run(case, scene, resolution, end, resolution_set, reference_run=False):
                     return {"case": case, "formulation": form, "precision": prec, "backend": be,
@@ -292,6 +314,10 @@ def main():
     ap.add_argument("--formulations", nargs="+", default=FORMULATIONS, choices=FORMULATIONS)
     ap.add_argument("--precisions", nargs="+", default=["double", "single", "mixed"],
                     choices=["double", "single", "mixed"])
+    ap.add_argument("--grid", nargs="+", metavar="FORM[:PREC,...]",
+                    help="formulations each with its own precisions, e.g. enog-a:double,single "
+                         "oas:double (precision double when none is given); replaces "
+                         "--formulations x --precisions")
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"], choices=["cpu", "opencl"])
     ap.add_argument("--device", type=int, default=None, help="OpenCL device (sphsolid devices)")
     ap.add_argument("--ratios", type=float, nargs="*", default=[5, 8, 10, 15, 20, 30],
