@@ -28,8 +28,8 @@ requested grid are missing).  Cheap runs go first.
   tools/error_vs_runtime.py                                # the full grid
   tools/error_vs_runtime.py --formulations enog-a --precisions double --ratios 5 8 \\
       --dps 0.1 --label "validation, measured under load" --png /tmp/e.png --csv /tmp/e.csv
-  tools/error_vs_runtime.py --backends cpu --plate3d-ratios --grid \\
-      enog-a:double,single,mixed gnog-a:double,single,mixed enog gnog oas   # the README's
+  tools/error_vs_runtime.py --backends cpu --plate3d-ratios --reference-run --grid \\
+      enog-a:double,single,mixed gnog-a:double,single,mixed enog gnog oas   # every method
 """
 import argparse
 import csv
