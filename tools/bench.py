@@ -38,8 +38,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_core import (BIN, PAPER_WALL, PLATE, REFERENCE_CODE_H10_SECONDS, ROOT,  # noqa: E402
-                        environment)
+from bench_core import (BIN, PAPER_WALL, PLATE, PRECISIONS,  # noqa: E402
+                        REFERENCE_CODE_H10_SECONDS, ROOT, environment)
 
 SPINNING = os.path.join(ROOT, "cases", "spinning_plate_2d", "scene.cfg")
 DEVICE_DIR = os.path.join(ROOT, "device")
@@ -511,8 +511,7 @@ def main():
     ap.add_argument("--json", required=True, help="output JSON file (Markdown next to it)")
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"], choices=["cpu", "opencl"])
     ap.add_argument("--device", type=int, default=None, help="OpenCL device (sphsolid devices)")
-    ap.add_argument("--precisions", nargs="+", default=["double"],
-                    choices=["double", "single", "mixed"])
+    ap.add_argument("--precisions", nargs="+", default=["double"], choices=PRECISIONS)
     ap.add_argument("--plate-ratios", type=float, nargs="*", default=[10, 20, 30],
                     help="plate H/dp values (default 10 20 30; none: skip the plate)")
     ap.add_argument("--plate-end", type=float, default=1.0, help="plate end time (default 1 s)")

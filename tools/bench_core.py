@@ -46,6 +46,7 @@ PAPER_PERIODS = {
     "gnog-a": {0.001: 0.274, 0.01: 0.274, 0.03: 0.274, 0.05: 0.275},
 }
 ROTATING = ("enog-a", "gnog-a")
+PRECISIONS = ["double", "single", "mixed"]  # sphsolid run --precision
 # 004 Table 6 (TLSPH, H/dp = 10): (v_f, nu) -> published period errors, Wendland and
 # Laguerre-Gauss, in % of the thin-plate period
 PAPER_TLSPH = {(0.05, 0.22): (10.3, 6.7), (0.1, 0.22): (10.0, 7.4), (0.05, 0.3): (10.3, 6.7),
@@ -293,8 +294,8 @@ def main():
                     choices=list(PAPER_PERIODS), help="periods: formulations (default: all)")
     ap.add_argument("--resolutions", type=int, nargs="+", default=[10, 20, 30])
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"])
-    ap.add_argument("--precisions", nargs="+", default=["double", "single", "mixed"],
-                    choices=["double", "single", "mixed"], help="precision: the modes")
+    ap.add_argument("--precisions", nargs="+", default=PRECISIONS, choices=PRECISIONS,
+                    help="precision: the modes")
     ap.add_argument("--single-on", nargs="+", default=["cpu"],
                     help="timing: backends that also run single-criterion stepping")
     args = ap.parse_args()

@@ -54,14 +54,21 @@ SPIN = os.path.join(ROOT, "cases", "spinning_plate_2d", "scene.cfg")
 TENSILE = os.path.join(ROOT, "cases", "tensile_2d", "scene.cfg")
 RINGS = os.path.join(ROOT, "cases", "colliding_rings_2d", "scene.cfg")
 BALL_PLATE = os.path.join(ROOT, "cases", "ball_plate_2d", "scene.cfg")
-RING_C0 = 117.85113019775793   # sqrt(E / (3 (1 - 2 nu) rho0)), E = 1e7, nu = 0.4, rho0 = 1200
-BALL_C0 = 372.67799624996494   # the same at nu = 0.49
+
+
+def bulk_sound_speed(e, nu, rho0):
+    """c0 = sqrt(K / rho0), K = E / (3 (1 - 2 nu)): the scenes' c0 from E and nu."""
+    return math.sqrt(e / (3.0 * (1.0 - 2.0 * nu) * rho0))
+
+
+RING_C0 = bulk_sound_speed(1.0e7, 0.4, 1200.0)   # 117.85 m/s, the rings' rubber
+BALL_C0 = bulk_sound_speed(1.0e7, 0.49, 1200.0)  # 372.68 m/s, the ball-plate's
 PLATE_E, PLATE_RHO, PLATE_NU, PLATE_VF = 2.0e6, 1000.0, 0.3975, 0.05  # the plate case's
 
 
 def plate_c0(nu):
-    """The plate's bulk sound speed at Poisson's ratio nu, E kept: sqrt(K / rho0)."""
-    return math.sqrt(PLATE_E / (3.0 * (1.0 - 2.0 * nu) * PLATE_RHO))
+    """The plate's c0 at Poisson's ratio nu, its E kept."""
+    return bulk_sound_speed(PLATE_E, nu, PLATE_RHO)
 
 
 PLATE_TIP_SPEED = PLATE_VF * plate_c0(PLATE_NU)  # 2.851 m/s

@@ -42,8 +42,8 @@ import sys
 import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_core import (BIN, PLATE, REFERENCE_CODE_H10_SECONDS, ROOT, ROTATING,  # noqa: E402
-                        thin_plate_period)
+from bench_core import (BIN, PLATE, PRECISIONS, REFERENCE_CODE_H10_SECONDS, ROOT,  # noqa: E402
+                        ROTATING, thin_plate_period)
 from bench import (PLATE_3D, PLATE_3D_THICKNESS, SPINNING, full_environment,  # noqa: E402
                    loadavg)
 
@@ -87,11 +87,11 @@ def grid(args):
     for entry in args.grid:
         form, _, precs = entry.partition(":")
         precisions = precs.split(",") if precs else ["double"]
-        bad = [x for x in [form] if x not in FORMULATIONS] + \
-            [x for x in precisions if x not in ("double", "single", "mixed")]
+        bad = ([form] if form not in FORMULATIONS else []) + \
+            [x for x in precisions if x not in PRECISIONS]
         if bad:
             sys.exit(f"error_vs_runtime.py: --grid {entry}: unknown {', '.join(bad)} "
-                     f"(formulations {', '.join(FORMULATIONS)}; double, single, mixed)")
+                     f"(formulations {', '.join(FORMULATIONS)}; {', '.join(PRECISIONS)})")
         pairs.append((form, precisions))
     return pairs
 
@@ -312,8 +312,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--formulations", nargs="+", default=FORMULATIONS, choices=FORMULATIONS)
-    ap.add_argument("--precisions", nargs="+", default=["double", "single", "mixed"],
-                    choices=["double", "single", "mixed"])
+    ap.add_argument("--precisions", nargs="+", default=PRECISIONS, choices=PRECISIONS)
     ap.add_argument("--grid", nargs="+", metavar="FORM[:PREC,...]",
                     help="formulations each with its own precisions, e.g. enog-a:double,single "
                          "oas:double (precision double when none is given); replaces "
