@@ -8,11 +8,16 @@
  * (eq. 14), with the hardening variable (equivalent plastic strain) advanced
  * by the consistency condition of linear hardening,
  *     d alpha = sqrt(2/3) f / (2 G + 2 kappa / 3)
- * (the same increment the reference code uses, notes §3.3), which makes
- * the return exact for proportional loading.  The plastic-flow term of the
- * rate form (eq. 12) is not added to the predictor: the return mapping
- * enforces the consistency that term expresses.  In 2D the in-plane model of
- * the papers is used (2 x 2 deviator), as for elasticity.
+ * (the reference code's formula, notes §3.3), which makes the return exact
+ * for proportional loading.  The plastic-flow term of the rate form (eq. 12)
+ * is not added to the predictor: the return mapping enforces the
+ * consistency that term expresses.  The reference code adds it whenever the
+ * old stress has f > 0 and then takes d alpha from the residual f, so its
+ * alpha misses the plastic strain of those substeps and it hardens less
+ * than kappa: on the square Taylor bar at L/dp = 8 that reading gives the
+ * observer 4.46 mm against our 4.20 and 003's 5.21
+ * (cases/taylor_bar_square/README.md).  In 2D the in-plane model of the
+ * papers is used (2 x 2 deviator), as for elasticity.
  */
 #ifndef SPH_PLASTICITY_H
 #define SPH_PLASTICITY_H
