@@ -14,8 +14,8 @@
  * consistency that term expresses.  The reference code adds it whenever the
  * old stress has f > 0 and then takes d alpha from the residual f, so its
  * alpha misses the plastic strain of those substeps and it hardens less
- * than kappa: on the square Taylor bar at L/dp = 8 that reading gives the
- * observer 4.46 mm against our 4.20 and 003's 5.21
+ * than kappa: copied, it moves the square Taylor bar's observer at
+ * L/dp = 8 to 4.46 mm, against our 4.20 and 003's 5.21
  * (cases/taylor_bar_square/README.md).  In 2D the in-plane model of the
  * papers is used (2 x 2 deviator), as for elasticity.
  */

@@ -46,7 +46,7 @@ PAPER_PERIODS = {
     "gnog-a": {0.001: 0.274, 0.01: 0.274, 0.03: 0.274, 0.05: 0.275},
 }
 ROTATING = ("enog-a", "gnog-a")
-PRECISIONS = ["double", "single", "mixed"]  # sphsolid run --precision
+PRECISIONS = ("double", "single", "mixed")  # sphsolid run --precision
 # 004 Table 6 (TLSPH, H/dp = 10): (v_f, nu) -> published period errors, Wendland and
 # Laguerre-Gauss, in % of the thin-plate period
 PAPER_TLSPH = {(0.05, 0.22): (10.3, 6.7), (0.1, 0.22): (10.0, 7.4), (0.05, 0.3): (10.3, 6.7),
