@@ -12,7 +12,10 @@
  *    of 1e5 Pa (its elastic peak von Mises stress is about 2.6e5 Pa) yields
  *    near the clamp, accumulates plastic strain and dissipates energy: total
  *    energy at t = 0.3 s below 0.6 E0 (measured 0.455) where the elastic run
- *    keeps 0.998; ENOG-A with a plastic material is refused (input error);
+ *    keeps 0.998; ENOG-A with a plastic material is refused (input error).
+ *    Under the sanitizers (test_sanitized) both runs end at t = 0.1 s, past
+ *    the first swing to the clamp's yield: the plastic energy below 0.8 E0
+ *    (measured 0.683 at 0.1 s, native backend), the elastic above 0.99;
  *  - compile only what the scene uses: an elastic SPH-ENOG-A scene allocates
  *    no stress-divergence, velocity-gradient, artificial-stress, plastic or
  *    penalty buffer, and its OpenCL program has no third pass and no kernel
@@ -25,6 +28,8 @@
  *    with the monitor quiet and a first period within 5 % of the thin-plate
  *    0.2541 s (measured 0.2486 s): its stiffest lattice mode is 2.3 times
  *    Wendland's, leapfrog's limit CFL 0.47 (tools/kernel_lattice_stiffness.py).
+ *    Under the sanitizers the stable run ends at 0.1 s, quiet, and its period
+ *    is the release build's.
  */
 #include "test_support.h"
 
@@ -83,8 +88,10 @@ static void plate_stability(test_counts *t, sph_backend_kind kind) {
 }
 
 static void plasticity(test_counts *t, sph_backend_kind kind) {
-    const char *elastic[] = {"method.formulation=gnog-a", "time.end=0.3"};
-    const char *plastic[] = {"method.formulation=gnog-a", "time.end=0.3",
+    const bool full = !test_sanitized();
+    const char *end = full ? "time.end=0.3" : "time.end=0.1";
+    const char *elastic[] = {"method.formulation=gnog-a", end};
+    const char *plastic[] = {"method.formulation=gnog-a", end,
                              "materials.plate.yield_stress=1.0e5"};
     double ratio[2] = {NAN, NAN};
     for (int p = 0; p < 2; ++p) {
@@ -117,9 +124,9 @@ static void plasticity(test_counts *t, sph_backend_kind kind) {
         }
         sph_simulation_close(&sim);
     }
-    printf("GNOG-A plate E(0.3)/E(0): elastic %.4f, plastic %.4f\n", ratio[0], ratio[1]);
+    printf("GNOG-A plate E(%s)/E(0): elastic %.4f, plastic %.4f\n", end + 9, ratio[0], ratio[1]);
     CHECK(t, ratio[0] > 0.99, "elastic energy kept: %.4f", ratio[0]);
-    CHECK(t, ratio[1] < 0.6, "plastic dissipation: %.4f", ratio[1]);
+    CHECK(t, ratio[1] < (full ? 0.6 : 0.8), "plastic dissipation: %.4f", ratio[1]);
 
     const char *enog_plastic[] = {"method.formulation=enog-a",
                                   "materials.plate.yield_stress=1.0e5"};
@@ -238,9 +245,12 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
 
 static void laguerre_wendland(test_counts *t, sph_backend_kind kind) {
     for (int stable = 0; stable < 2; ++stable) {
+        const bool full = !test_sanitized();
         const char *overrides[] = {"method.kernel=laguerre-wendland", "method.smoothing_ratio=2.0",
                                    stable ? "time.cfl_acoustic=0.2" : "time.cfl_acoustic=0.4",
-                                   stable ? "time.end=0.3" : "time.end=0.01"};
+                                   !stable ? "time.end=0.01"
+                                   : full  ? "time.end=0.3"
+                                           : "time.end=0.1"};
         sph_simulation sim;
         sph_error err = {0};
         const sph_status st = run_plate(kind, overrides, 4, &sim, &err);
@@ -254,8 +264,9 @@ static void laguerre_wendland(test_counts *t, sph_backend_kind kind) {
                   (int)st, sim.stats.instability_time);
         } else {
             CHECK(t, st == SPH_OK && isnan(sim.stats.instability_time),
-                  "Laguerre-Wendland at CFL 0.2: runs quietly to 0.3 s (%s)", err.msg);
-            CHECK(t, fabs(sim.metrics.first_period / 0.2541 - 1) < 0.05,
+                  "Laguerre-Wendland at CFL 0.2: runs quietly to %s s (%s)", overrides[3] + 9,
+                  err.msg);
+            CHECK(t, !full || fabs(sim.metrics.first_period / 0.2541 - 1) < 0.05,
                   "Laguerre-Wendland first period %.5f s, thin-plate 0.2541 s",
                   sim.metrics.first_period);
         }

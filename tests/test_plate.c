@@ -14,6 +14,11 @@
  *    about +-0.116-0.117 m over 1 s"; we allow 0.09-0.14), and the total energy
  *    neither grows nor collapses (the Riemann dissipation only removes energy:
  *    E(1)/E(0) in [0.5, 1.01]).
+ *
+ * Under the sanitizers (test_sanitized) the run ends at t = 0.3 s, past the
+ * first period and the first swing's largest deflection, and every bound is
+ * checked there (E(0.3)/E(0) measured 1.004); the run to 1 s is the release
+ * build's.
  */
 #include "test_support.h"
 
@@ -24,15 +29,18 @@ int main(int argc, char **argv) {
     const sph_backend_kind kind = test_backend_kind(argc, argv);
     sph_simulation sim;
     sph_error err = {0};
-    const sph_status st =
-        test_run_case("oscillating_plate_2d", NULL, 0, kind, SPH_PRECISION_DOUBLE, 0, &sim, &err);
+    const bool full = !test_sanitized();
+    const char *shortened[] = {"time.end=0.3"};
+    const double end = full ? 1.0 : 0.3;
+    const sph_status st = test_run_case("oscillating_plate_2d", full ? NULL : shortened,
+                                        full ? 0 : 1, kind, SPH_PRECISION_DOUBLE, 0, &sim, &err);
     CHECK(&t, st == SPH_OK, "plate run failed: %s", err.msg);
     if (st == SPH_OK) {
         const sph_metrics *m = &sim.metrics;
         printf("plate %s: %d particles (%d fixed), KE0 %.10f, first period %.5f s, max tip "
-               "displacement %.5f m, E(1)/E(0) %.4f, %ld acoustic / %ld advection steps, %.2f s\n",
+               "displacement %.5f m, E(%g)/E(0) %.4f, %ld acoustic / %ld advection steps, %.2f s\n",
                sim.backend->kind_name, sim.particles.n, sim.particles.fixed_count,
-               m->initial_kinetic_energy, m->first_period, m->max_observer_displacement,
+               m->initial_kinetic_energy, m->first_period, m->max_observer_displacement, end,
                m->final_total_energy_ratio, sim.stats.acoustic_steps, sim.stats.advection_steps,
                sim.stats.wall_seconds);
         CHECK(&t, sim.particles.n == 1612, "particle count %d", sim.particles.n);
@@ -41,9 +49,9 @@ int main(int argc, char **argv) {
         CHECK_NEAR(&t, m->initial_kinetic_energy, 4.0647984104106447, 4.0647984104106447 * 1e-6,
                    "initial kinetic energy (J/m)");
         CHECK_RANGE(&t, m->first_period, 0.27, 0.30, "first period (s)");
-        CHECK_NEAR(&t, sim.stats.end_time, 1.0, 1e-12, "simulated to t = 1 s");
+        CHECK_NEAR(&t, sim.stats.end_time, end, 1e-12, "simulated to the end");
         CHECK_RANGE(&t, m->max_observer_displacement, 0.09, 0.14, "tip amplitude (m)");
-        CHECK_RANGE(&t, m->final_total_energy_ratio, 0.5, 1.01, "E(1)/E(0)");
+        CHECK_RANGE(&t, m->final_total_energy_ratio, 0.5, 1.01, "E(end)/E(0)");
         /* dual-criteria stepping: 5-10 acoustic steps per advection step (000 §5) */
         const double ratio = (double)sim.stats.acoustic_steps / (double)sim.stats.advection_steps;
         CHECK_RANGE(&t, ratio, 5.0, 12.0, "acoustic steps per advection step");

@@ -36,7 +36,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import PLATE, check, finish, run_results, run_sphsolid  # noqa: E402
+from sphtest import PLATE, SANITIZED, check, finish, run_results, run_sphsolid  # noqa: E402
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 VELOCITY = np.array([3.0, -2.0])
@@ -102,7 +102,7 @@ try:
               f"mixed: position error {errors['mixed']:.3g} m (bound {bound:.3g} m)")
 
     periods = {}
-    plate_precisions = () if os.environ.get("SPHSOLID_SANITIZED") else ("double", "mixed", "single")
+    plate_precisions = () if SANITIZED else ("double", "mixed", "single")
     for precision in plate_precisions:
         out = os.path.join(tmp, "plate-" + precision)
         if not run(PLATE, out, precision, sets=["time.end=0.35"]):

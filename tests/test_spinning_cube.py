@@ -30,7 +30,7 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import SRC, check, finish, run_results, run_sphsolid  # noqa: E402
+from sphtest import SANITIZED, SRC, check, finish, run_results, run_sphsolid  # noqa: E402
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 tmp = tempfile.mkdtemp(prefix="sphsolid-cube-")
@@ -41,7 +41,7 @@ try:
     # pocl rebuilds 5 570 times more slowly (single stepping): half the run there; under the
     # sanitizers (SPHSOLID_SANITIZED) a fifth, which exercises the same code
     end = 0.5 if BACKEND == "cpu" else 0.25
-    if os.environ.get("SPHSOLID_SANITIZED"):
+    if SANITIZED:
         end = 0.1
     code, err = run_sphsolid(scene, BACKEND, out, ["resolution.dp=%g" % dp,
                                                    "method.formulation=gnog-a",

@@ -28,11 +28,22 @@
  *  - linear momentum: conserved to round-off with the averaged rotation and
  *    without rotation (every pair term is antisymmetric and R-bar is the same
  *    for all particles): drift below 1e-9 of sum m|v|, for every formulation.
+ *
+ * Under the sanitizers (test_sanitized) every run ends at t = 0.05 s, a tenth:
+ * the upper bounds on the maximum errors hold for any prefix of a run, and
+ * ENOG's error (39 % by 0.05 s), the start-frozen spin-up (32 times the
+ * midpoint's), ENOG's energy trip (1.63 E(0) by 0.04 s) and the reference
+ * code's kinetic energies at 0.01-0.04 s are checked as in full; ENOG-A's
+ * spin-up at nu = 0.3 (0.94 % by 0.05 s) and the kinetic energy at 0.5 s
+ * need the whole run and are the release build's.
  */
 #include "test_support.h"
 
 #include <math.h>
 #include <string.h>
+
+/* the end time of every run under the sanitizers (the case's is 0.5 s) */
+#define SANITIZED_END "0.05"
 
 /* `trip`: when not NULL, the monitor only reports, and the quantity of its
  * first trip is copied there ("" when none) */
@@ -43,8 +54,9 @@ static void run_with(test_counts *t, sph_backend_kind kind, const char *formulat
     snprintf(f, sizeof f, "method.formulation=%s", formulation);
     snprintf(r, sizeof r, "method.rotation=%s", rotation);
     snprintf(g, sizeof g, "time.frozen_geometry=%s", geometry);
-    const char *overrides[6] = {f, r, g};
+    const char *overrides[7] = {f, r, g};
     int count = 3;
+    if (test_sanitized()) overrides[count++] = "time.end=" SANITIZED_END;
     for (int k = 0; extra && k < 2; ++k)
         if (extra[k]) overrides[count++] = extra[k];
     if (trip) overrides[count++] = "monitor.action=report";
@@ -69,7 +81,9 @@ static void run_with(test_counts *t, sph_backend_kind kind, const char *formulat
                sim.stats.acoustic_steps, sim.stats.wall_seconds);
         CHECK(t, sim.particles.n == 400, "particle count %d", sim.particles.n);
         CHECK_NEAR(t, m->initial_kinetic_energy, 228593.75, 228593.75 * 1e-9, "initial KE");
-        CHECK_NEAR(t, sim.stats.end_time, 0.5, 1e-12, "simulated to t = 0.5 s");
+        const double end = test_sanitized() ? atof(SANITIZED_END) : 0.5;
+        CHECK(t, fabs(sim.stats.end_time - end) <= 1e-12, "simulated to t = %.10g s, not %g s",
+              sim.stats.end_time, end);
         CHECK(t, m->max_linear_momentum_drift < 1e-9, "linear momentum drift %.3g",
               m->max_linear_momentum_drift);
         *error_out = m->max_angular_momentum_error;
@@ -106,6 +120,7 @@ int main(int argc, char **argv) {
     CHECK(&t, strncmp(enog_trip, "total energy", 12) == 0,
           "ENOG: the monitor reports the energy growth (first trip: '%s')", enog_trip);
     CHECK(&t, enog_a <= 0.03, "ENOG-A max angular-momentum error %.4f > 3 %%", enog_a);
+    const bool full = !test_sanitized();
     CHECK(&t, enog >= 0.20, "ENOG max angular-momentum error %.4f < 20 %%", enog);
     CHECK(&t, gnog <= 0.015, "GNOG max angular-momentum error %.4f > 1.5 %%", gnog);
     CHECK(&t, gnog_a_avg <= 0.008, "GNOG-A max angular-momentum error %.4f > 0.8 %%", gnog_a_avg);
@@ -126,7 +141,7 @@ int main(int argc, char **argv) {
     run_with(&t, kind, "enog-a", "averaged", "midpoint", soft_projected, &enog_a_soft_projected,
              NULL, NULL);
     run_with(&t, kind, "enog-a", "averaged", "midpoint", projected, &enog_a_projected, NULL, NULL);
-    CHECK(&t, enog_a_soft >= 0.10,
+    CHECK(&t, !full || enog_a_soft >= 0.10,
           "ENOG-A at nu = 0.3 max angular-momentum error %.4f < 10 %%: no spin-up to remove",
           enog_a_soft);
     CHECK(
@@ -137,8 +152,12 @@ int main(int argc, char **argv) {
           "ENOG-A with the torque projection: max angular-momentum error %.6f > 0.01 %%",
           enog_a_projected);
     static const double reference[5] = {226767, 226892, 226503, 226357, 220414};
-    for (int k = 0; k < 5; ++k)
+    for (int k = 0; k < (full ? 5 : 4); ++k)
         CHECK(&t, fabs(ke[k] - reference[k]) <= 1e-4 * reference[k],
               "GNOG-A kinetic energy %.1f against the reference code's %.0f", ke[k], reference[k]);
+    if (!full)
+        printf("sanitized: runs to t = %s s; ENOG-A's spin-up at nu = 0.3 and the kinetic energy "
+               "at 0.5 s are the release build's\n",
+               SANITIZED_END);
     return test_summary("test_spinning_plate", &t);
 }

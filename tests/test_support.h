@@ -15,7 +15,6 @@
 #include <string.h>
 #include <unistd.h>
 
-/* argv[1]: "cpu" or "opencl" (OpenCL takes the first device: pocl in CI). */
 /* whether the backend allocated a buffer of this name (summary.json's memory records) */
 static inline bool test_has_buffer(const sph_backend *be, const char *name) {
     for (int k = 0; k < be->nbuffers; ++k)
@@ -23,6 +22,16 @@ static inline bool test_has_buffer(const sph_backend *be, const char *name) {
     return false;
 }
 
+/* Under the sanitizers (SPHSOLID_SANITIZED, tests/CMakeLists.txt) the longest
+ * physics runs are cut short: the same code paths run for fewer steps, ten
+ * times slower per step, and the bounds that need the whole run are left to
+ * the release build, which runs every test in full.  Each test says which. */
+static inline bool test_sanitized(void) {
+    const char *s = getenv("SPHSOLID_SANITIZED");
+    return s && *s && strcmp(s, "0") != 0;
+}
+
+/* argv[1]: "cpu" or "opencl" (OpenCL takes the first device: pocl in CI). */
 static inline sph_backend_kind test_backend_kind(int argc, char **argv) {
     if (argc > 1 && strcmp(argv[1], "opencl") == 0) return SPH_BACKEND_OPENCL;
     return SPH_BACKEND_CPU;

@@ -42,6 +42,11 @@
  *     yield stress above any reachable stress leaves no plastic state and
  *     gives Hencky elasticity, within a derived second-order bound of the
  *     SVK run (plastic_plate).
+ *
+ * Under the sanitizers (test_sanitized) the two plates of 2 and 3 run to
+ * t = 0.1 s, past the first swing's largest deflection: E(t)/E(0) and the
+ * tip amplitude are held to the same bounds; the periods are the release
+ * build's.
  */
 #include "backend_cpu.h"
 #include "test_support.h"
@@ -310,15 +315,17 @@ typedef struct {
 } plate_result;
 
 /* The plate of 004 §3.2.5 with TLSPH and the scene's default alpha, to
- * t = 0.29 s (the first period is the second zero crossing of the tip's
- * displacement, analysis.c). */
-static plate_result run_plate(test_counts *t, sph_backend_kind kind, const char *kernel) {
-    char kernel_set[64];
+ * t = `end` (0.29 s: past the first period, the second zero crossing of the
+ * tip's displacement, analysis.c). */
+static plate_result run_plate(test_counts *t, sph_backend_kind kind, const char *kernel,
+                              double end) {
+    char kernel_set[64], end_set[64];
     snprintf(kernel_set, sizeof kernel_set, "method.kernel=%s", kernel);
+    snprintf(end_set, sizeof end_set, "time.end=%.17g", end);
     /* monitor off: TLSPH has no dissipation, and the particle-scale velocity
      * content it keeps trips the zigzag monitor (0.43 at t = 0.01 s, above
      * its 0.3) while the positions stay smooth (hourglass indicator, below) */
-    const char *overrides[] = {"method.formulation=tlsph", "method.rotation=none", "time.end=0.29",
+    const char *overrides[] = {"method.formulation=tlsph", "method.rotation=none", end_set,
                                "monitor.action=off", kernel_set};
     sph_simulation sim;
     sph_error err = {0};
@@ -333,12 +340,12 @@ static plate_result run_plate(test_counts *t, sph_backend_kind kind, const char 
         r.energy_ratio = m->final_total_energy_ratio;
         r.steps = sim.stats.acoustic_steps;
         r.wall = sim.stats.wall_seconds;
-        r.ok = fabs(sim.stats.end_time - 0.29) < 1e-12;
+        r.ok = fabs(sim.stats.end_time - end) < 1e-12;
         printf("plate (%s, %s): T %.5f s (%+.2f %% of 0.25406), tip amplitude %.4f m, E/E0 %.4f, "
                "%ld steps, %.2f s\n",
                sim.backend->kind_name, kernel, r.period, 100.0 * (r.period / 0.25406 - 1.0),
                r.amplitude, r.energy_ratio, r.steps, r.wall);
-        CHECK(t, r.ok, "plate ran to t = 0.29 s, got %g", sim.stats.end_time);
+        CHECK(t, r.ok, "plate ran to t = %g s, got %g", end, sim.stats.end_time);
     }
     sph_simulation_close(&sim);
     return r;
@@ -690,19 +697,28 @@ int main(int argc, char **argv) {
     plastic_plate(&t, kind);
 
     const double t_theory = 0.25406; /* 004 eq. 33, nu = 0.3975 */
-    const plate_result w = run_plate(&t, kind, "wendland-c2");
+    const bool full = !test_sanitized();
+    const double end = full ? 0.29 : 0.1;
+    const plate_result w = run_plate(&t, kind, "wendland-c2", end);
     if (w.ok) {
-        /* 004: T_W 0.282 s, 11.0 %; +-1.5 points */
-        CHECK_RANGE(&t, w.period, t_theory * 1.095, t_theory * 1.125, "T Wendland (s)");
+        CHECK_RANGE(&t, w.energy_ratio, 0.97, 1.03, "E(end)/E(0)");
         CHECK_RANGE(&t, w.amplitude, 0.09, 0.14, "tip amplitude (m)");
-        CHECK_RANGE(&t, w.energy_ratio, 0.97, 1.03, "E(0.29)/E(0)");
+        if (full) /* 004: T_W 0.282 s, 11.0 %; +-1.5 points */
+            CHECK_RANGE(&t, w.period, t_theory * 1.095, t_theory * 1.125, "T Wendland (s)");
     }
     /* the kernel is the only difference: run once, on the native backend
      * (both backends gave the same periods to 5 digits; CI time) */
     if (kind == SPH_BACKEND_CPU) {
-        const plate_result lg = run_plate(&t, kind, "laguerre-gauss");
-        if (lg.ok) /* 004: T_LG 0.271 s, 6.7 %; +-1.5 points */
-            CHECK_RANGE(&t, lg.period, t_theory * 1.052, t_theory * 1.082, "T Laguerre-Gauss (s)");
+        const plate_result lg = run_plate(&t, kind, "laguerre-gauss", end);
+        if (lg.ok) {
+            CHECK_RANGE(&t, lg.energy_ratio, 0.97, 1.03, "Laguerre-Gauss E(end)/E(0)");
+            if (full) /* 004: T_LG 0.271 s, 6.7 %; +-1.5 points */
+                CHECK_RANGE(&t, lg.period, t_theory * 1.052, t_theory * 1.082,
+                            "T Laguerre-Gauss (s)");
+        }
     }
+    if (!full)
+        printf("sanitized: the plates run to t = %g s; their periods are the release build's\n",
+               end);
     return test_summary("test_tlsph", &t);
 }
