@@ -203,26 +203,7 @@ try:
     code, err = run_sphsolid(scene, BACKEND, out, ["resolution.ratio=6"]
                              + (["time.end=1e-5"] if SANITIZED else []))
     check(code == 0, f"round Taylor bar: exit {code} ({err})")
-    if code == 0 and SANITIZED:
-        summ, ts = run_results(out)
-        check(summ["status"] == "completed" and "instability" not in summ,
-              f"round Taylor bar to 10 us: monitor quiet ({summ.get('instability')})")
-        dp, rho0, v0 = 3.91e-3 / 6, 2700.0, 373.0
-        ke, energy = ts["kinetic_energy"], ts["total_energy"]
-        mass = summ["particle_count"] * rho0 * dp ** 3
-        check(abs(ke[0] - 0.5 * mass * v0 ** 2) < 1e-9 * ke[0],
-              f"round Taylor bar: initial kinetic energy {ke[0]:.6g} J")
-        gain = float(np.max(energy - np.minimum.accumulate(energy)))
-        check(gain < 0.002 * ke[0], f"round Taylor bar to 10 us: energy gain {gain:.4g} J")
-        lateral = max(np.max(np.abs(ts["momentum_x"])), np.max(np.abs(ts["momentum_y"])))
-        check(lateral < 1e-9 * mass * v0,
-              f"round Taylor bar to 10 us: momentum along the wall {lateral:.3g}")
-        closest = nearest(out, 2)
-        check(closest > 0.25 * dp, f"round Taylor bar to 10 us: nearest particle "
-              f"{closest / dp:.3f} dp above the wall")
-        print("round Taylor bar R/dp = 6 to 10 us (sanitized; the state at 30 us is the release "
-              "build's): energy gain %.2e KE0, nearest %.3f dp" % (gain / ke[0], closest / dp))
-    elif code == 0:
+    if code == 0:
         summ, ts = run_results(out)
         check(summ["status"] == "completed" and "instability" not in summ,
               f"round Taylor bar: monitor quiet ({summ.get('instability')})")
@@ -231,9 +212,6 @@ try:
         mass = summ["particle_count"] * rho0 * dp ** 3
         check(abs(ke[0] - 0.5 * mass * v0 ** 2) < 1e-9 * ke[0],
               f"round Taylor bar: initial kinetic energy {ke[0]:.6g} J")
-        at30 = int(np.argmin(np.abs(t - 30e-6)))
-        check(ke[at30] < 0.01 * ke[0],
-              f"round Taylor bar: at rest at 30 us (KE {100 * ke[at30] / ke[0]:.3f} % KE0)")
         # the wall is passive: after the impact the energy may only fall
         gain = float(np.max(energy - np.minimum.accumulate(energy)))
         check(gain < 0.002 * ke[0], f"round Taylor bar: energy gain {gain:.4g} J = "
@@ -244,23 +222,31 @@ try:
         closest = nearest(out, 2)
         check(closest > 0.25 * dp, f"round Taylor bar: nearest particle {closest / dp:.3f} dp "
               "above the wall")
-        work = plastic_work(out, rho0 * dp ** 3, sigma_y)
-        check(0.5 * ke[0] <= work <= ke[0], f"round Taylor bar: plastic work {work:.4g} J = "
-              f"{work / ke[0]:.3f} KE0, in [0.5, 1]")
-        # the public reference code's run (R/dp = 12, relaxed particles, its observer one
-        # spacing below the top): 15.975 mm at 30 us (cases/taylor_bar_round/README.md)
-        top = ts["top_z"][at30]
-        check(abs(top / 0.015975 - 1) < 0.03, f"round Taylor bar: top at {1e3 * top:.3f} mm "
-              "at 30 us (reference code 15.975 mm)")
-        check(abs(top / 0.016114 - 1) < 0.02,
-              f"round Taylor bar: top at {1e3 * top:.3f} mm at 30 us (documented 16.114 mm)")
-        rim = float(np.max(ts["rim_x"]))
-        check(abs(rim / 0.0066753 - 1) < 0.05,
-              f"round Taylor bar: rim out to {1e3 * rim:.3f} mm (documented 6.675 mm)")
-        print("round Taylor bar R/dp = 6: top %.3f mm at 30 us, rim %.3f mm, KE(30 us) %.4f KE0, "
-              "energy gain %.2e KE0, plastic work %.3f KE0, nearest %.3f dp"
-              % (1e3 * top, 1e3 * rim, ke[at30] / ke[0], gain / ke[0], work / ke[0],
-                 closest / dp))
+        if SANITIZED:
+            print("round Taylor bar R/dp = 6 to %g us (sanitized; the state at 30 us is the "
+                  "release build's): energy gain %.2e KE0, nearest %.3f dp"
+                  % (1e6 * t[-1], gain / ke[0], closest / dp))
+        else:
+            at30 = int(np.argmin(np.abs(t - 30e-6)))
+            check(ke[at30] < 0.01 * ke[0],
+                  f"round Taylor bar: at rest at 30 us (KE {100 * ke[at30] / ke[0]:.3f} % KE0)")
+            work = plastic_work(out, rho0 * dp ** 3, sigma_y)
+            check(0.5 * ke[0] <= work <= ke[0], f"round Taylor bar: plastic work {work:.4g} J = "
+                  f"{work / ke[0]:.3f} KE0, in [0.5, 1]")
+            # the public reference code's run (R/dp = 12, relaxed particles, its observer one
+            # spacing below the top): 15.975 mm at 30 us (cases/taylor_bar_round/README.md)
+            top = ts["top_z"][at30]
+            check(abs(top / 0.015975 - 1) < 0.03, f"round Taylor bar: top at {1e3 * top:.3f} mm "
+                  "at 30 us (reference code 15.975 mm)")
+            check(abs(top / 0.016114 - 1) < 0.02,
+                  f"round Taylor bar: top at {1e3 * top:.3f} mm at 30 us (documented 16.114 mm)")
+            rim = float(np.max(ts["rim_x"]))
+            check(abs(rim / 0.0066753 - 1) < 0.05,
+                  f"round Taylor bar: rim out to {1e3 * rim:.3f} mm (documented 6.675 mm)")
+            print("round Taylor bar R/dp = 6: top %.3f mm at 30 us, rim %.3f mm, KE(30 us) %.4f "
+                  "KE0, energy gain %.2e KE0, plastic work %.3f KE0, nearest %.3f dp"
+                  % (1e3 * top, 1e3 * rim, ke[at30] / ke[0], gain / ke[0], work / ke[0],
+                     closest / dp))
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 finish("test_walls_" + BACKEND)
