@@ -89,9 +89,11 @@ static void plate_stability(test_counts *t, sph_backend_kind kind) {
 
 static void plasticity(test_counts *t, sph_backend_kind kind) {
     const bool full = !test_sanitized();
-    const char *end = full ? "time.end=0.3" : "time.end=0.1";
-    const char *elastic[] = {"method.formulation=gnog-a", end};
-    const char *plastic[] = {"method.formulation=gnog-a", end,
+    const double end = full ? 0.3 : 0.1;
+    char end_set[48];
+    test_end_override(end_set, sizeof end_set, end);
+    const char *elastic[] = {"method.formulation=gnog-a", end_set};
+    const char *plastic[] = {"method.formulation=gnog-a", end_set,
                              "materials.plate.yield_stress=1.0e5"};
     double ratio[2] = {NAN, NAN};
     for (int p = 0; p < 2; ++p) {
@@ -124,7 +126,7 @@ static void plasticity(test_counts *t, sph_backend_kind kind) {
         }
         sph_simulation_close(&sim);
     }
-    printf("GNOG-A plate E(%s)/E(0): elastic %.4f, plastic %.4f\n", end + 9, ratio[0], ratio[1]);
+    printf("GNOG-A plate E(%g)/E(0): elastic %.4f, plastic %.4f\n", end, ratio[0], ratio[1]);
     CHECK(t, ratio[0] > 0.99, "elastic energy kept: %.4f", ratio[0]);
     CHECK(t, ratio[1] < (full ? 0.6 : 0.8), "plastic dissipation: %.4f", ratio[1]);
 
@@ -244,13 +246,13 @@ static void compiled_features(test_counts *t, sph_backend_kind kind) {
 }
 
 static void laguerre_wendland(test_counts *t, sph_backend_kind kind) {
+    const bool full = !test_sanitized();
     for (int stable = 0; stable < 2; ++stable) {
-        const bool full = !test_sanitized();
+        const double end = !stable ? 0.01 : full ? 0.3 : 0.1;
+        char end_set[48];
         const char *overrides[] = {"method.kernel=laguerre-wendland", "method.smoothing_ratio=2.0",
                                    stable ? "time.cfl_acoustic=0.2" : "time.cfl_acoustic=0.4",
-                                   !stable ? "time.end=0.01"
-                                   : full  ? "time.end=0.3"
-                                           : "time.end=0.1"};
+                                   test_end_override(end_set, sizeof end_set, end)};
         sph_simulation sim;
         sph_error err = {0};
         const sph_status st = run_plate(kind, overrides, 4, &sim, &err);
@@ -264,8 +266,7 @@ static void laguerre_wendland(test_counts *t, sph_backend_kind kind) {
                   (int)st, sim.stats.instability_time);
         } else {
             CHECK(t, st == SPH_OK && isnan(sim.stats.instability_time),
-                  "Laguerre-Wendland at CFL 0.2: runs quietly to %s s (%s)", overrides[3] + 9,
-                  err.msg);
+                  "Laguerre-Wendland at CFL 0.2: runs quietly to %g s (%s)", end, err.msg);
             CHECK(t, !full || fabs(sim.metrics.first_period / 0.2541 - 1) < 0.05,
                   "Laguerre-Wendland first period %.5f s, thin-plate 0.2541 s",
                   sim.metrics.first_period);

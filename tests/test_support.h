@@ -31,6 +31,12 @@ static inline bool test_sanitized(void) {
     return s && *s && strcmp(s, "0") != 0;
 }
 
+/* The override "time.end=<end>" written into buf (for test_run_case); returns buf. */
+static inline const char *test_end_override(char *buf, size_t size, double end) {
+    snprintf(buf, size, "time.end=%.17g", end);
+    return buf;
+}
+
 /* argv[1]: "cpu" or "opencl" (OpenCL takes the first device: pocl in CI). */
 static inline sph_backend_kind test_backend_kind(int argc, char **argv) {
     if (argc > 1 && strcmp(argv[1], "opencl") == 0) return SPH_BACKEND_OPENCL;

@@ -319,9 +319,9 @@ typedef struct {
  * tip's displacement, analysis.c). */
 static plate_result run_plate(test_counts *t, sph_backend_kind kind, const char *kernel,
                               double end) {
-    char kernel_set[64], end_set[64];
+    char kernel_set[64], end_set[48];
     snprintf(kernel_set, sizeof kernel_set, "method.kernel=%s", kernel);
-    snprintf(end_set, sizeof end_set, "time.end=%.17g", end);
+    test_end_override(end_set, sizeof end_set, end);
     /* monitor off: TLSPH has no dissipation, and the particle-scale velocity
      * content it keeps trips the zigzag monitor (0.43 at t = 0.01 s, above
      * its 0.3) while the positions stay smooth (hourglass indicator, below) */
