@@ -9,8 +9,10 @@
  *    as a strain rate.  A smooth (locally linear) motion gives m_i of order
  *    h |grad grad v|; a zigzag at the particle scale gives m_i of the order
  *    of the velocity gradient itself.  The host divides the largest m_i by
- *    the largest |L_i| (Frobenius norm) of the body, so the indicator is
- *    dimensionless and does not depend on the amplitude of the motion;
+ *    the largest |L_i| (Frobenius norm) of the run so far (host/solver.c),
+ *    so the indicator is dimensionless and does not depend on the amplitude
+ *    of the motion, nor blow up where a vibration turns and every |L_i|
+ *    passes through zero;
  *  - non-finite state: 1 where a position or velocity component is NaN or
  *    infinite (a NaN elsewhere reaches the velocity within a substep);
  *  - the bounding box of the particles (max x, max -x), for the check that

@@ -10,8 +10,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define CHECKPOINT_FORMAT 3  /* 3: the precision as a name (mixed precision) */
-#define DIAG_VALUES       10 /* kinetic, strain, momentum[3], angular[3], monitor[2] */
+/* 3: the precision as a name (mixed precision); 4: the velocity gradient of
+ * the monitor in the series */
+#define CHECKPOINT_FORMAT 4
+#define DIAG_VALUES       11 /* kinetic, strain, momentum[3], angular[3], monitor[3] */
 
 void sph_checkpoint_path(const char *run_dir, char *buf, size_t len) {
     snprintf(buf, len, "%s/checkpoint/checkpoint.h5", run_dir);
@@ -26,6 +28,7 @@ static void diag_pack(const sph_diagnostics *d, double *out) {
     }
     out[8] = d->min_distance_ratio;
     out[9] = d->zigzag;
+    out[10] = d->velocity_gradient;
 }
 
 static void diag_unpack(const double *in, sph_diagnostics *d) {
@@ -37,6 +40,7 @@ static void diag_unpack(const double *in, sph_diagnostics *d) {
     }
     d->min_distance_ratio = in[8];
     d->zigzag = in[9];
+    d->velocity_gradient = in[10];
 }
 
 static hid_t field_memtype(sph_field_type t) {
