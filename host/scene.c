@@ -1731,7 +1731,7 @@ static sph_status parse_monitor(loader *L, const config_setting_t *root) {
     const config_setting_t *g;
     sph_status st = get_group(L, root, "monitor", false, &g);
     /* TLSPH has no Riemann dissipation: its velocity field keeps a steady
-     * particle-scale acoustic content (indicator 0.4 to 1.0 on the plate,
+     * particle-scale acoustic content (indicator 0.3 to 0.6 on the plate,
      * not growing) that this measure cannot tell from zigzag, so for TLSPH
      * the zigzag check is off unless a threshold is given */
     const double zigzag_default = sc->formulation == SPH_FORMULATION_TLSPH ? INFINITY : 0.3;
