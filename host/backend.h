@@ -69,8 +69,8 @@ typedef struct {
     double angular[3]; /* 2D: angular[2] = L_z */
     /* instability monitor (device/monitor.cl), filled by the solver */
     double min_distance_ratio; /* smallest pair distance / dp */
-    double velocity_gradient;  /* max |L_i| now (Frobenius) */
-    double zigzag;             /* max velocity mismatch / the largest max |L_i| so far */
+    double gradient_scale;     /* the largest max |L_i| (Frobenius) of the run up to now */
+    double zigzag;             /* max velocity mismatch / gradient_scale */
 } sph_diagnostics;
 
 /* A host copy of the frozen neighbour lists (tests). */

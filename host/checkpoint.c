@@ -10,8 +10,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* 3: the precision as a name (mixed precision); 4: the velocity gradient of
- * the monitor in the series */
+/* 3: the precision as a name (mixed precision); 4: the monitor's gradient
+ * scale (the run's largest velocity gradient so far) in the series */
 #define CHECKPOINT_FORMAT 4
 #define DIAG_VALUES       11 /* kinetic, strain, momentum[3], angular[3], monitor[3] */
 
@@ -28,7 +28,7 @@ static void diag_pack(const sph_diagnostics *d, double *out) {
     }
     out[8] = d->min_distance_ratio;
     out[9] = d->zigzag;
-    out[10] = d->velocity_gradient;
+    out[10] = d->gradient_scale;
 }
 
 static void diag_unpack(const double *in, sph_diagnostics *d) {
@@ -40,7 +40,7 @@ static void diag_unpack(const double *in, sph_diagnostics *d) {
     }
     d->min_distance_ratio = in[8];
     d->zigzag = in[9];
-    d->velocity_gradient = in[10];
+    d->gradient_scale = in[10];
 }
 
 static hid_t field_memtype(sph_field_type t) {

@@ -48,11 +48,10 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
      * cycle before does not, and the plate with SPH-GNOG-A at H/dp = 15 read
      * 0.35 at t = 0.21 s (its tip at rest), 0.04-0.07 between the turning
      * points (docs/scene-format.md, "monitor") */
-    d.velocity_gradient = mon[SPH_MONITOR_GRADV];
-    double gradient_scale = d.velocity_gradient;
-    for (int k = 0; k < ts->count; ++k)
-        gradient_scale = fmax(gradient_scale, ts->diag[k].velocity_gradient);
-    d.zigzag = gradient_scale > 0 ? mon[SPH_MONITOR_MISMATCH] / gradient_scale : 0.0;
+    d.gradient_scale = mon[SPH_MONITOR_GRADV];
+    if (ts->count > 0)
+        d.gradient_scale = fmax(d.gradient_scale, ts->diag[ts->count - 1].gradient_scale);
+    d.zigzag = d.gradient_scale > 0 ? mon[SPH_MONITOR_MISMATCH] / d.gradient_scale : 0.0;
     if (a->observers->count > 0) {
         st = be->ops->download(be, FIELD_POS, s->pos, err);
         if (!st) st = be->ops->download(be, FIELD_ID, s->id, err);
