@@ -36,67 +36,61 @@ from sphtest import SANITIZED, SRC, check, finish, run_results, run_sphsolid  # 
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 tmp = tempfile.mkdtemp(prefix="sphsolid-cube-")
-try:
-    scene = os.path.join(SRC, "cases", "spinning_cube_3d", "scene.cfg")
-    out = os.path.join(tmp, "cube")
-    dp, rho0, omega = 0.1, 1100.0, 50.0
-    # pocl rebuilds 5 570 times more slowly (single stepping): half the run there; under the
-    # sanitizers (SPHSOLID_SANITIZED) a fifth, which exercises the same code
-    end = 0.5 if BACKEND == "cpu" else 0.25
-    if SANITIZED:
-        end = 0.1
+scene = os.path.join(SRC, "cases", "spinning_cube_3d", "scene.cfg")
+dp, rho0, omega = 0.1, 1100.0, 50.0
+# pocl rebuilds 5 570 times more slowly (single stepping): half the run there; under the
+# sanitizers (SPHSOLID_SANITIZED) a fifth, which exercises the same code
+end = 0.5 if BACKEND == "cpu" else 0.25
+if SANITIZED:
+    end = 0.1
+
+
+def run_cube(name, label, sets, bound, bound_text):
+    """Run the cube at dp to `end` with `sets`; check that it completes, its maximum
+    angular-momentum error against `bound` and its linear momentum at round-off.
+    Returns (summary, series, error, drift), or None when the run failed."""
+    out = os.path.join(tmp, name)
     code, err = run_sphsolid(scene, BACKEND, out, ["resolution.dp=%g" % dp,
-                                                   "method.formulation=gnog-a",
-                                                   "time.end=%g" % end], timeout=1800)
-    check(code == 0, f"exit {code} ({err})")
+                                                   "time.end=%g" % end] + sets, timeout=1800)
+    check(code == 0, f"{label}: exit {code} ({err})")
+    if code != 0:
+        return None
+    summ, ts = run_results(out)
+    err_l = summ["metrics"]["max_angular_momentum_error"]
+    check(abs(ts["time"][-1] - end) < 1e-12, f"{label}: reached t = {end} s ({ts['time'][-1]})")
+    check(err_l <= bound, f"{label}: maximum angular-momentum error {100 * err_l:.4f} % "
+          f"(bound {bound_text})")
+    drift = summ["metrics"]["max_linear_momentum_drift"]
+    check(drift < 1e-9, f"{label}: linear momentum drift {drift:.3g}")
+    return summ, ts, err_l, drift
+
+
+try:
+    gnog = run_cube("cube", "SPH-GNOG-A", ["method.formulation=gnog-a"], 1.2 * 0.0118,
+                    "1.2 x 003's 1.18 %")
     if BACKEND == "cpu":
-        out_pr = os.path.join(tmp, "cube-enog-a")
-        code_pr, err_pr = run_sphsolid(scene, BACKEND, out_pr, ["resolution.dp=%g" % dp,
-                                                             "time.end=%g" % end], timeout=1800)
-        check(code_pr == 0, f"SPH-ENOG-A: exit {code_pr} ({err_pr})")
-        if code_pr == 0:
-            summ, ts = run_results(out_pr)
-            err_l = summ["metrics"]["max_angular_momentum_error"]
-            check(abs(ts["time"][-1] - end) < 1e-12, f"reached t = {end} s ({ts['time'][-1]})")
-            check(err_l <= 1.2 * 0.0267, f"SPH-ENOG-A: maximum angular-momentum error "
-                  f"{100 * err_l:.3f} % (003: 2.67 %, bound 1.2 x)")
-            drift = summ["metrics"]["max_linear_momentum_drift"]
-            check(drift < 1e-9, f"SPH-ENOG-A: linear momentum drift {drift:.3g}")
+        r = run_cube("cube-enog-a", "SPH-ENOG-A", [], 1.2 * 0.0267, "1.2 x 003's 2.67 %")
+        if r:
             print("spinning cube dp = %g, SPH-ENOG-A: max angular-momentum error %.3f %%, "
-                  "momentum drift %.3g" % (dp, 100 * err_l, drift))
-    out_tp = os.path.join(tmp, "cube-enog-a-projected")
-    code_tp, err_tp = run_sphsolid(scene, BACKEND, out_tp, ["resolution.dp=%g" % dp,
-                                                         "method.torque_projection=true",
-                                                         "time.end=%g" % end], timeout=1800)
-    check(code_tp == 0, f"SPH-ENOG-A with the torque projection: exit {code_tp} ({err_tp})")
-    if code_tp == 0:
-        summ, ts = run_results(out_tp)
+                  "momentum drift %.3g" % (dp, 100 * r[2], r[3]))
+    r = run_cube("cube-enog-a-projected", "SPH-ENOG-A with the torque projection",
+                 ["method.torque_projection=true"], 5e-4, "0.05 %")
+    if r:
+        summ, ts, err_l, drift = r
         check(summ["features"]["torque_projection"] is True, "summary lists the projection")
-        err_l = summ["metrics"]["max_angular_momentum_error"]
-        check(abs(ts["time"][-1] - end) < 1e-12, f"reached t = {end} s ({ts['time'][-1]})")
-        check(err_l <= 5e-4, f"SPH-ENOG-A with the torque projection: maximum angular-momentum "
-              f"error {100 * err_l:.4f} % (bound 0.05 %)")
-        drift = summ["metrics"]["max_linear_momentum_drift"]
-        check(drift < 1e-9, f"linear momentum drift {drift:.3g}")
         zigzag = float(np.max(ts["zigzag_indicator"]))
         check(zigzag < 0.05, f"zigzag indicator {zigzag:.4f}")
         print("spinning cube dp = %g, SPH-ENOG-A with the torque projection: max angular-momentum "
               "error %.4f %%, momentum drift %.3g, zigzag %.4f, E/E0 %.4f" % (
                   dp, 100 * err_l, drift, zigzag,
                   ts["total_energy"][-1] / ts["total_energy"][0]))
-    if code == 0:
-        summ, ts = run_results(out)
+    if gnog:
+        summ, ts, err, drift = gnog
         c = (np.arange(10) + 0.5) * dp - 0.5
         x, y = np.meshgrid(c, c, indexing="ij")
         ke0 = 10 * np.sum(0.5 * rho0 * dp ** 3 * omega ** 2 * (x ** 2 + y ** 2))
         check(abs(ts["kinetic_energy"][0] / ke0 - 1) < 1e-12,
               f"initial kinetic energy {ts['kinetic_energy'][0]:.10g} against {ke0:.10g}")
-        err = summ["metrics"]["max_angular_momentum_error"]
-        check(abs(ts["time"][-1] - end) < 1e-12, f"reached t = {end} s ({ts['time'][-1]})")
-        check(err <= 1.2 * 0.0118, f"maximum angular-momentum error {100 * err:.3f} % "
-              "(003: 1.18 %, bound 1.2 x)")
-        drift = summ["metrics"]["max_linear_momentum_drift"]
-        check(drift < 1e-9, f"linear momentum drift {drift:.3g}")
         l0 = ts["angular_momentum_z"][0]
         tilt = max(np.max(np.abs(ts["angular_momentum_x"])),
                    np.max(np.abs(ts["angular_momentum_y"])))
