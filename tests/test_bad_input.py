@@ -464,6 +464,11 @@ ROWS = [
     Row("disk full: summary.json (timeseries.csv is marked .partial again)", 1,
         ["cannot write {out}/summary.json.partial: No space left on device"],
         args=FAST + ["--set", "output.snapshot_interval=0"], fs=("full", 4096, "summary.json")),
+    # --- issue 34, runaway work: checkpoints, progress, predicted work and output volume
+    # --- issue 34, names in CSV and JSON
+    # --- issue 34, scene values: empty constraint regions, 64-bit integers, monitor domain,
+    #     absurd materials
+    # --- issue 34, restart and the output directory
 ]
 
 
