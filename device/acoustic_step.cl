@@ -215,7 +215,7 @@ KERNEL void acoustic_pressure(
          * angular-momentum error of 2.54 % (paper: 2.58 %) against 3.12 % with
          * da^s added after the rotation, the difference being the one-step
          * lag of the increment; 1.05 % with the mid-interval geometry
-         * (README, "SPH-ENOG-A rotation"). */
+         * (docs/method.md, "SPH-ENOG-A rotation"). */
         vec post = vec_zero();
 #    if SPH_HAS_TORQUE_PROJECTION
         if (RUNTIME_TORQUE_PROJECTION) {

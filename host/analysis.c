@@ -1,5 +1,6 @@
 #include "analysis.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -62,19 +63,101 @@ static double norm3(const double *v) {
     return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+void sph_initial_sums_compute(const sph_particles *p, sph_initial_sums *s) {
+    memset(s, 0, sizeof *s);
+    const size_t n = (size_t)p->n;
+    for (size_t i = 0; i < n; ++i) {
+        double x[3] = {0.0, 0.0, 0.0}, v[3] = {0.0, 0.0, 0.0};
+        for (int d = 0; d < p->dim && d < 3; ++d) {
+            x[d] = p->pos[(size_t)d * n + i];
+            v[d] = p->vel[(size_t)d * n + i];
+        }
+        const double m = p->mass[i];
+        const double speed = norm3(v), r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+        s->total_mass += m;
+        s->momentum_sum += m * speed;
+        s->angular[0] += m * (x[1] * v[2] - x[2] * v[1]);
+        s->angular[1] += m * (x[2] * v[0] - x[0] * v[2]);
+        s->angular[2] += m * (x[0] * v[1] - x[1] * v[0]);
+        s->angular_sum += m * sqrt(r2) * speed;
+        s->polar_inertia += m * r2;
+    }
+}
+
+/* Append "; text" (or "text" to an empty buffer); truncated text ends in "...". */
+static void add_reason(char *why, size_t size, const char *text) {
+    const size_t used = strlen(why);
+    if (used + 1 >= size) return;
+    const int n = snprintf(why + used, size - used, "%s%s", used ? "; " : "", text);
+    if (n >= 0 && (size_t)n >= size - used && size >= 4) memcpy(why + size - 4, "...", 4);
+}
+
+static const char *constraint_type_name(sph_constraint_type type) {
+    switch (type) {
+    case SPH_CONSTRAINT_FIXED:
+        return "fixed";
+    case SPH_CONSTRAINT_FIXED_AXES:
+        return "fixed_axes";
+    case SPH_CONSTRAINT_VELOCITY:
+        return "velocity";
+    }
+    return "?";
+}
+
+bool sph_angular_momentum_conserved(const sph_scene *scene, char *why, size_t size) {
+    if (size) why[0] = '\0';
+    bool conserved = true;
+    char text[3 * SPH_NAME_LEN + 64];
+    /* a constrained particle is held or driven by a force from outside the
+     * bodies: its reaction torque changes L (the clamped plate's |L - L0| /
+     * |L0| swings through 200 % with each oscillation) */
+    for (int b = 0; b < scene->nbodies; ++b) {
+        const sph_body *body = &scene->bodies[b];
+        for (int c = 0; c < body->nconstraints; ++c) {
+            const sph_constraint *con = &body->constraints[c];
+            const char *region = con->region >= 0 && con->region < scene->nshapes
+                                     ? scene->shapes[con->region].name
+                                     : "";
+            snprintf(text, sizeof text, "constraint '%s' on region '%s' of body '%s'",
+                     constraint_type_name(con->type), region[0] ? region : "(inline)", body->name);
+            add_reason(why, size, text);
+            conserved = false;
+        }
+    }
+    /* a wall pushes along its normal at the contact points: a torque about
+     * the origin unless the line of action passes through it */
+    for (int w = 0; w < scene->nwalls; ++w) {
+        snprintf(text, sizeof text, "wall '%s'", scene->walls[w].name);
+        add_reason(why, size, text);
+        conserved = false;
+    }
+    /* uniform gravity exerts the torque x_c cross M g about the origin */
+    const double *g = scene->gravity;
+    if (g[0] != 0.0 || g[1] != 0.0 || (scene->dim == 3 && g[2] != 0.0)) {
+        add_reason(why, size, "gravity");
+        conserved = false;
+    }
+    return conserved;
+}
+
 void sph_metrics_compute(const sph_timeseries *ts, int period_observer, int period_axis,
-                         double initial_momentum_scale, double angular_momentum_scale,
+                         const sph_initial_sums *initial, const char *not_conserved,
                          sph_metrics *m) {
     m->first_period = NAN;
     m->max_angular_momentum_error = NAN;
+    snprintf(m->angular_momentum_not_conserved, sizeof m->angular_momentum_not_conserved, "%s",
+             not_conserved ? not_conserved : "");
+    m->initial_angular_momentum = norm3(initial->angular);
     m->max_linear_momentum_drift = NAN;
     m->initial_kinetic_energy = ts->count ? ts->diag[0].kinetic : NAN;
     m->final_total_energy_ratio = NAN;
     m->max_observer_displacement = NAN;
+    m->total_mass = initial->total_mass;
+    m->momentum_scale = m->angular_momentum_scale = m->energy_scale = NAN;
     if (ts->count == 0) return;
     const sph_diagnostics *d0 = &ts->diag[0];
     const double l0 = norm3(d0->angular);
-    double max_l = 0.0, max_p = 0.0;
+    double max_l = 0.0, max_p = 0.0, max_kinetic = 0.0, max_energy = 0.0;
     for (int k = 0; k < ts->count; ++k) {
         double dl[3], dp[3];
         for (int a = 0; a < 3; ++a) {
@@ -83,11 +166,24 @@ void sph_metrics_compute(const sph_timeseries *ts, int period_observer, int peri
         }
         max_l = fmax(max_l, norm3(dl));
         max_p = fmax(max_p, norm3(dp));
+        max_kinetic = fmax(max_kinetic, ts->diag[k].kinetic);
+        max_energy = fmax(max_energy, ts->diag[k].kinetic + ts->diag[k].strain);
     }
-    /* a bar hitting a wall starts with |L(0)| ~ 1e-20 from round-off: an
-     * error relative to it would read 1e9 % */
-    if (l0 > 1e-9 * angular_momentum_scale && l0 > 0.0) m->max_angular_momentum_error = max_l / l0;
-    if (initial_momentum_scale > 0.0) m->max_linear_momentum_drift = max_p / initial_momentum_scale;
+    m->momentum_scale = sqrt(2.0 * initial->total_mass * max_kinetic);
+    m->angular_momentum_scale = sqrt(2.0 * initial->polar_inertia * max_kinetic);
+    m->energy_scale = max_energy;
+    /* "no spin" from the host's double L(0) against the same sum of
+     * magnitudes, never from the device's L(0), which carries the run
+     * precision's round-off (1e-8 of the scale in single); the error itself
+     * is measured from the device's L(0), whose round-off it shares */
+    const bool spins = m->initial_angular_momentum > 1e-9 * initial->angular_sum &&
+                       m->initial_angular_momentum > 0.0;
+    if (!m->angular_momentum_not_conserved[0] && spins && l0 > 0.0)
+        m->max_angular_momentum_error = max_l / l0;
+    /* the same outside forces (constraints, walls, gravity) change the linear
+     * momentum: its drift is reported only where it is conserved */
+    if (!m->angular_momentum_not_conserved[0] && initial->momentum_sum > 0.0)
+        m->max_linear_momentum_drift = max_p / initial->momentum_sum;
     const double e0 = d0->kinetic + d0->strain;
     const sph_diagnostics *de = &ts->diag[ts->count - 1];
     if (e0 > 0.0) m->final_total_energy_ratio = (de->kinetic + de->strain) / e0;

@@ -6,12 +6,27 @@
  *   the displacement; crossings are located by linear interpolation between
  *   samples.
  * max_angular_momentum_error: max over the samples of |L(t) - L(0)| / |L(0)|
- *   (003 Fig. 13).
+ *   (003 Fig. 13), L about the origin.  Reported only where the scene
+ *   conserves angular momentum (no constraint, wall or gravity: anything else
+ *   makes |L - L0| / |L0| a measure of the external torque, 200 % on the
+ *   clamped 2D plate, not an error) and where the body spins: |L(0)| above
+ *   1e-9 of sum m |x| |v|, both taken in double from the initial particles on
+ *   the host, so that the decision is the same in every precision (the
+ *   device's own L(0) of a body without spin is its round-off, 1e-8 of the
+ *   scale in single precision).
+ * scales: the physical size of the quantities `sphsolid compare` checks; a
+ *   quantity that is zero in theory (the linear momentum of a spinning plate)
+ *   differs between two runs by round-off of this size, not of its own.
  */
 #ifndef SPH_ANALYSIS_H
 #define SPH_ANALYSIS_H
 
 #include "backend.h"
+#include "particles.h"
+#include "scene.h"
+
+#include <stdbool.h>
+#include <stddef.h>
 
 #include <math.h>
 
@@ -28,23 +43,51 @@ sph_status sph_timeseries_append(sph_timeseries *ts, double t, const sph_diagnos
                                  const double *observers, sph_error *err);
 void sph_timeseries_free(sph_timeseries *ts);
 
+/* The initial particles' sums, in double on the host (before any device
+ * rounding), about the origin, the point the diagnostics take L about. */
+typedef struct {
+    double total_mass;    /* sum m */
+    double momentum_sum;  /* sum m |v| */
+    double angular[3];    /* L(0) = sum m x cross v (2D: angular[2]) */
+    double angular_sum;   /* sum m |x| |v|: the scale of |L(0)| and of its round-off */
+    double polar_inertia; /* sum m |x|^2 */
+} sph_initial_sums;
+
+void sph_initial_sums_compute(const sph_particles *p, sph_initial_sums *s);
+
+/* Whether the scene conserves angular momentum: false, with the reasons in
+ * `why` ("constraint 'fixed' on region 'clamp' of body 'plate'; gravity"),
+ * when a constraint, a wall or gravity acts on the bodies. */
+bool sph_angular_momentum_conserved(const sph_scene *scene, char *why, size_t size);
+
 typedef struct {
     double first_period;               /* NAN when not requested or not found */
-    double max_angular_momentum_error; /* NAN when L(0) = 0 */
-    double max_linear_momentum_drift;  /* max |P(t) - P(0)| / sum m |v(0)| */
+    double max_angular_momentum_error; /* NAN when not conserved or L(0) = 0 */
+    /* "" where the scene conserves angular momentum, else why it does not */
+    char angular_momentum_not_conserved[256];
+    double initial_angular_momentum; /* |L(0)| from sph_initial_sums */
+    /* max |P(t) - P(0)| / sum m |v(0)|; NAN when not conserved (the same
+     * reasons as the angular momentum) */
+    double max_linear_momentum_drift;
     double initial_kinetic_energy;
     double final_total_energy_ratio;  /* E(end) / E(0) */
     double max_observer_displacement; /* of the period observer along its axis */
+    /* summary.json "scales" (docs/output-format.md), for `sphsolid compare`:
+     *   momentum: sqrt(2 M max_t E_kin), the largest sum m |v| the kinetic
+     *     energy allows (Cauchy-Schwarz), >= sum m |v| at every sample;
+     *   angular_momentum: sqrt(2 sum m |x(0)|^2 max_t E_kin), the same bound
+     *     of sum m |x| |v| at the initial positions;
+     *   energy: max_t (E_kin + E_strain). */
+    double total_mass, momentum_scale, angular_momentum_scale, energy_scale;
 } sph_metrics;
 
 /* Period from samples y(t) (displacement from the start value). */
 double sph_first_period(const double *t, const double *y, int count);
 
-/* initial_momentum_scale: sum m |v|; angular_momentum_scale: sum m |x - x_c| |v|.
- * The angular-momentum error is relative to |L(0)|, and undefined (NaN) where
- * |L(0)| is round-off against the angular scale (a body without spin). */
+/* `not_conserved`: NULL or "" where the scene conserves angular momentum,
+ * else the reason (sph_angular_momentum_conserved). */
 void sph_metrics_compute(const sph_timeseries *ts, int period_observer, int period_axis,
-                         double initial_momentum_scale, double angular_momentum_scale,
+                         const sph_initial_sums *initial, const char *not_conserved,
                          sph_metrics *m);
 
 #endif

@@ -4,6 +4,7 @@
 #include "snapshot.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,9 +12,13 @@
 #include <unistd.h>
 
 /* 3: the precision as a name (mixed precision); 4: the monitor's gradient
- * scale (the run's largest velocity gradient so far) in the series */
-#define CHECKPOINT_FORMAT 4
-#define DIAG_VALUES       11 /* kinetic, strain, momentum[3], angular[3], monitor[3] */
+ * scale (the run's largest velocity gradient so far) in the series; 5: the
+ * run's checkpoint settings (attributes checkpoint_every, checkpoint_wall),
+ * so that a restart goes on writing checkpoints.  Format 4 differs only by
+ * their absence and still restarts. */
+#define CHECKPOINT_FORMAT        5
+#define CHECKPOINT_FORMAT_OLDEST 4
+#define DIAG_VALUES              11 /* kinetic, strain, momentum[3], angular[3], monitor[3] */
 
 void sph_checkpoint_path(const char *run_dir, char *buf, size_t len) {
     snprintf(buf, len, "%s/checkpoint/checkpoint.h5", run_dir);
@@ -126,6 +131,8 @@ sph_status sph_checkpoint_write(const char *run_dir, sph_backend *be,
         st = sph_h5_attr_int64s(&w, root, names[k], &ints[k], 1, err);
     if (!st) st = sph_h5_attr_double(&w, root, "time", h->time, err);
     if (!st) st = sph_h5_attr_double(&w, root, "max_speed2", h->max_speed2, err);
+    if (!st) st = sph_h5_attr_double(&w, root, "checkpoint_every", h->checkpoint_every, err);
+    if (!st) st = sph_h5_attr_double(&w, root, "checkpoint_wall", h->checkpoint_wall, err);
     if (!st) st = sph_h5_attr_string(&w, root, "backend", be->kind_name, err);
     if (!st) st = sph_h5_attr_string(&w, root, "precision", sph_precision_name(&be->features), err);
     if (!st) st = sph_h5_attr_string(&w, root, "sphsolid_version", SPHSOLID_VERSION, err);
@@ -181,6 +188,46 @@ static sph_status read_int(hid_t f, const char *path, const char *name, long *ou
     return st;
 }
 
+/* The format, refused clearly when this sphsolid cannot read it. */
+static sph_status read_format(hid_t f, const char *path, long *format, sph_error *err) {
+    sph_status st = read_int(f, path, "format", format, err);
+    if (!st && (*format < CHECKPOINT_FORMAT_OLDEST || *format > CHECKPOINT_FORMAT))
+        st = sph_fail(err, SPH_ERR_INPUT,
+                      "%s: checkpoint format %ld, this sphsolid reads formats %d to %d", path,
+                      *format, CHECKPOINT_FORMAT_OLDEST, CHECKPOINT_FORMAT);
+    return st;
+}
+
+/* The checkpoint settings; format 4 has none (0: no checkpoints). */
+static sph_status read_settings(hid_t f, const char *path, long format, double *every, double *wall,
+                                sph_error *err) {
+    *every = *wall = 0.0;
+    if (format < 5) return SPH_OK;
+    sph_status st = sph_h5_read_attr_double(f, path, "checkpoint_every", every, err);
+    if (!st) st = sph_h5_read_attr_double(f, path, "checkpoint_wall", wall, err);
+    if (!st && (!(*every >= 0.0) || !(*wall >= 0.0) || !isfinite(*every) || !isfinite(*wall)))
+        st = sph_fail(err, SPH_ERR_INPUT, "%s: checkpoint settings %g, %g: not valid intervals",
+                      path, *every, *wall);
+    return st;
+}
+
+sph_status sph_checkpoint_read_info(const char *run_dir, sph_checkpoint_info *info,
+                                    sph_error *err) {
+    memset(info, 0, sizeof *info);
+    char path[1200];
+    sph_checkpoint_path(run_dir, path, sizeof path);
+    hid_t f;
+    sph_status st = sph_h5_open_read(path, &f, err);
+    if (st) return st;
+    st = read_format(f, path, &info->format, err);
+    if (!st) st = sph_h5_read_attr_double(f, path, "time", &info->time, err);
+    if (!st)
+        st = read_settings(f, path, info->format, &info->checkpoint_every, &info->checkpoint_wall,
+                           err);
+    H5Fclose(f);
+    return st;
+}
+
 /* The snapshots a checkpoint lists were complete when it was taken; a run
  * that failed later marked them .partial (output.c): a restart continues
  * that run, so they are results again. */
@@ -204,10 +251,9 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
     if (st) return st;
     long format = 0, n = 0, nsnap = 0;
     char *backend = NULL, *precision = NULL;
-    st = read_int(f, path, "format", &format, err);
-    if (!st && format != CHECKPOINT_FORMAT)
-        st = sph_fail(err, SPH_ERR_INPUT, "%s: checkpoint format %ld, this sphsolid reads %d", path,
-                      format, CHECKPOINT_FORMAT);
+    st = read_format(f, path, &format, err);
+    if (!st)
+        st = read_settings(f, path, format, &ck->h.checkpoint_every, &ck->h.checkpoint_wall, err);
     if (!st) st = read_int(f, path, "particles", &n, err);
     if (!st && n != be->n)
         st = sph_fail(err, SPH_ERR_INPUT,

@@ -12,6 +12,11 @@
  * The file is DIR/checkpoint/checkpoint.h5, written through a temporary name,
  * synced and renamed (hdf5_file.h): a run killed while writing keeps the
  * previous checkpoint.
+ *
+ * It also records the run's checkpoint settings (--checkpoint-every,
+ * --checkpoint-wall; format 5): a restart goes on writing checkpoints as the
+ * run did unless a flag says otherwise.  Format 4 (before those settings)
+ * still restarts, with no checkpoints unless a flag asks for them.
  */
 #ifndef SPH_CHECKPOINT_H
 #define SPH_CHECKPOINT_H
@@ -29,7 +34,16 @@ typedef struct {
     int nsnapshots; /* snapshots written so far */
     double *snapshot_times;
     double carried[SPH_CARRIED_LEN];
+    double checkpoint_every; /* the run's settings (0: none); a restart continues them */
+    double checkpoint_wall;
 } sph_checkpoint_header;
+
+/* What a restart checks before it builds anything. */
+typedef struct {
+    long format;
+    double time;
+    double checkpoint_every, checkpoint_wall; /* 0: none (or a format-4 checkpoint) */
+} sph_checkpoint_info;
 
 typedef struct {
     sph_checkpoint_header h;
@@ -48,6 +62,9 @@ sph_status sph_checkpoint_write(const char *run_dir, sph_backend *be,
 
 /* The resolved scene stored in a run's checkpoint (malloc'ed). */
 sph_status sph_checkpoint_read_scene(const char *run_dir, char **scene_text, sph_error *err);
+/* Its format, time and checkpoint settings (a format this sphsolid cannot
+ * read is an input error naming both formats). */
+sph_status sph_checkpoint_read_info(const char *run_dir, sph_checkpoint_info *info, sph_error *err);
 
 /* The state, for a backend of the same scene (`be` gives the field layout);
  * the series is appended to `ts`. */

@@ -20,6 +20,7 @@
 
 typedef struct {
     char path[PATH_MAX];
+    bool partial; /* timeseries.csv.partial: a torn last line is dropped */
     int ncols;
     char **names;
     int nrows;
@@ -37,12 +38,22 @@ typedef struct {
     series_file *files;
 } series_index;
 
+/* What summary.json says about a run. */
+typedef struct {
+    /* summary.json present with status "completed" or "unstable" */
+    bool complete;
+    char why[384];                     /* why not, when not complete */
+    char note[384];                    /* "unstable": where the monitor stopped it, else "" */
+    double scale[SPH_COMPARE_NSCALES]; /* "scales" (NaN when absent) */
+} run_summary;
+
 typedef struct {
     const char *dir;
     char label; /* 'A' or 'B' */
     bool has_csv, has_series;
     csv_table csv;
     series_index series;
+    run_summary summary;
 } run_files;
 
 typedef struct {
@@ -66,6 +77,28 @@ void sph_compare_options_default(sph_compare_options *opt) {
     memset(opt, 0, sizeof *opt);
     opt->rtol = 1e-9;
     opt->atol = 0.0;
+}
+
+/* summary.json "scales" keys (named so in the report) and the
+ * timeseries.csv columns each one scales, by SPH_COMPARE_SCALE_*. */
+static const char *const scale_keys[SPH_COMPARE_NSCALES] = {"momentum", "angular_momentum",
+                                                            "energy"};
+static const char *const scale_columns[SPH_COMPARE_NSCALES] = {
+    "momentum_*", "angular_momentum*", "kinetic_energy, strain_energy, total_energy"};
+
+/* The physical scale of a time-series column: the quantities that are zero
+ * in theory in many runs (the linear momentum of a spinning plate, the
+ * angular momentum of a translating bar, the strain energy of a rigid
+ * motion) are compared against the size they would have if they were not,
+ * not against their own round-off.  -1: none (relative to its values). */
+static int column_scale(const char *name) {
+    if (strncmp(name, "momentum_", 9) == 0) return SPH_COMPARE_SCALE_MOMENTUM;
+    if (strcmp(name, "angular_momentum") == 0 || strncmp(name, "angular_momentum_", 17) == 0)
+        return SPH_COMPARE_SCALE_ANGULAR_MOMENTUM;
+    if (strcmp(name, "kinetic_energy") == 0 || strcmp(name, "strain_energy") == 0 ||
+        strcmp(name, "total_energy") == 0)
+        return SPH_COMPARE_SCALE_ENERGY;
+    return -1;
 }
 
 /* ---- result bookkeeping ------------------------------------------------ */
@@ -114,6 +147,7 @@ static sph_compare_item *get_item(sph_compare_result *res, const char *name, sph
     memset(it, 0, sizeof *it);
     sph_format(it->name, sizeof it->name, "%s", name);
     it->kind = kind;
+    it->physical_scale = -1;
     return it;
 }
 
@@ -223,8 +257,13 @@ static sph_status csv_read(csv_table *t, sph_error *err) {
     size_t line_cap = 0;
     int lineno = 0, row_cap = 0;
     sph_status st = SPH_OK;
-    while (!st && getline(&line, &line_cap, f) >= 0) {
+    ssize_t got;
+    while (!st && (got = getline(&line, &line_cap, f)) >= 0) {
         ++lineno;
+        /* a killed run's timeseries.csv.partial may end in a row cut short,
+         * which may still parse (a number cut in its digits): every row is
+         * written with its newline, so a last line without one is dropped */
+        if (t->partial && t->names && got > 0 && line[got - 1] != '\n') break;
         char *text = trim(line);
         if (!*text) continue;
         st = t->names ? csv_row(t, text, lineno, &row_cap, err) : csv_header(t, text, err);
@@ -316,6 +355,70 @@ static bool is_file(const char *path) {
     return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
 
+/* summary.json: whether the run finished, and its physical scales.  The
+ * file is written last, through a temporary name, so its presence is what
+ * marks a finished run; a run killed (or still running) has none.  A run
+ * the instability monitor stopped ("unstable") finished too, with results
+ * up to the stop: comparing two such runs (does the blow-up reproduce?) is
+ * a comparison of complete results, and one that stopped earlier than the
+ * other has fewer rows, a failure of its own; it is noted, not failed. */
+static void summary_read(run_summary *sm, const char *dir, bool partial_csv) {
+    for (int k = 0; k < SPH_COMPARE_NSCALES; ++k) sm->scale[k] = NAN;
+    sm->complete = false;
+    char path[PATH_MAX + 16];
+    sph_format(path, sizeof path, "%s/summary.json", dir);
+    if (!is_file(path)) {
+        sph_format(sm->why, sizeof sm->why,
+                   "no summary.json%s: the run was killed or is still running",
+                   partial_csv ? " and only timeseries.csv.partial" : "");
+        return;
+    }
+    json_object *root = json_object_from_file(path);
+    if (!root || !json_object_is_type(root, json_type_object)) {
+        sph_format(sm->why, sizeof sm->why, "%s is not a JSON object", path);
+        json_object_put(root);
+        return;
+    }
+    json_object *status = NULL, *scales = NULL;
+    const char *text = json_object_object_get_ex(root, "status", &status) &&
+                               json_object_is_type(status, json_type_string)
+                           ? json_object_get_string(status)
+                           : NULL;
+    if (!text) {
+        sph_format(sm->why, sizeof sm->why, "summary.json has no \"status\"");
+    } else if (strcmp(text, "completed") != 0 && strcmp(text, "unstable") != 0) {
+        sph_format(sm->why, sizeof sm->why, "summary.json status \"%s\"", text);
+    } else if (partial_csv) {
+        sph_format(sm->why, sizeof sm->why, "only timeseries.csv.partial");
+    } else {
+        sm->complete = true;
+    }
+    json_object *ins = NULL, *time = NULL;
+    if (text && strcmp(text, "unstable") == 0) {
+        double stop = NAN;
+        if (json_object_object_get_ex(root, "instability", &ins) &&
+            json_object_object_get_ex(ins, "time", &time))
+            stop = json_object_get_double(time);
+        sph_format(sm->note, sizeof sm->note,
+                   "summary.json status \"unstable\": stopped by the instability monitor at "
+                   "t = %.9g s",
+                   stop);
+    }
+    if (json_object_object_get_ex(root, "scales", &scales) &&
+        json_object_is_type(scales, json_type_object)) {
+        for (int k = 0; k < SPH_COMPARE_NSCALES; ++k) {
+            json_object *v = NULL;
+            if (!json_object_object_get_ex(scales, scale_keys[k], &v) ||
+                !(json_object_is_type(v, json_type_double) ||
+                  json_object_is_type(v, json_type_int)))
+                continue;
+            const double x = json_object_get_double(v);
+            if (isfinite(x) && x > 0.0) sm->scale[k] = x;
+        }
+    }
+    json_object_put(root);
+}
+
 static sph_status run_open(run_files *r, const char *dir, char label, sph_error *err) {
     r->dir = dir;
     r->label = label;
@@ -329,15 +432,22 @@ static sph_status run_open(run_files *r, const char *dir, char label, sph_error 
     if (s) return s;
     r->has_csv = is_file(r->csv.path);
     r->has_series = is_file(r->series.path);
-    if (!r->has_csv && !r->has_series) {
+    if (!r->has_csv) {
+        /* a killed run's time series: compared as far as it goes, and the
+         * run reported incomplete (summary_read) */
         char partial[PATH_MAX + 16];
         sph_format(partial, sizeof partial, "%s.partial", r->csv.path);
-        return sph_fail(
-            err, SPH_ERR_INPUT,
-            "%s is not a run directory: it has neither timeseries.csv nor "
-            "snapshots.hdf.series%s",
-            dir, is_file(partial) ? " (only timeseries.csv.partial: the run did not finish)" : "");
+        if (is_file(partial) && strlen(partial) < sizeof r->csv.path) {
+            sph_format(r->csv.path, sizeof r->csv.path, "%s", partial);
+            r->csv.partial = r->has_csv = true;
+        }
     }
+    if (!r->has_csv && !r->has_series)
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "%s is not a run directory: it has neither timeseries.csv nor "
+                        "snapshots.hdf.series",
+                        dir);
+    summary_read(&r->summary, dir, r->csv.partial);
     if (r->has_csv && (s = csv_read(&r->csv, err))) return s;
     if (r->has_series && (s = series_read(&r->series, err))) return s;
     return SPH_OK;
@@ -381,7 +491,7 @@ static sph_status compare_timeseries(const run_files *a, const run_files *b,
     const int nrows = ta->nrows < tb->nrows ? ta->nrows : tb->nrows;
     sph_status st = SPH_OK;
     if (ta->nrows != tb->nrows)
-        st = add_note(res, true, err,
+        st = add_note(res, !opt->common_prefix, err,
                       "timeseries.csv: run A has %d rows, run B has %d (the first %d compared)",
                       ta->nrows, tb->nrows, nrows);
     for (int r = 0; !st && r < nrows; ++r) {
@@ -419,8 +529,14 @@ static sph_status compare_timeseries(const run_files *a, const run_files *b,
                 w.time = ta->v[(size_t)r * (size_t)ta->ncols + (size_t)time_a];
             }
         }
+        const int kind = column_scale(ta->names[c]);
+        /* marked as physical only where it is larger than the values by
+         * more than their printed digits (kinetic energy: its own maximum) */
+        const bool physical = kind >= 0 && res->scales[kind] > w.scale * (1.0 + 1e-6);
+        if (physical) w.scale = res->scales[kind];
         sph_compare_item *it = get_item(res, ta->names[c], SPH_COMPARE_COLUMN, err);
         if (!it) return SPH_ERR_RUNTIME;
+        if (physical) it->physical_scale = kind;
         item_update(res, it, w, opt);
     }
     for (int c = 0; c < tb->ncols; ++c) {
@@ -731,7 +847,31 @@ static sph_status compare_loaded(const run_files *a, const run_files *b,
                                  const sph_compare_options *opt, field_filter *ff,
                                  sph_compare_result *res, sph_error *err) {
     res->time_tol = TIME_RTOL * end_time(a, b);
+    for (int k = 0; k < SPH_COMPARE_NSCALES; ++k) {
+        /* the larger of the two runs' statements (fmax ignores a NaN): the
+         * same scene gives the same scale to round-off */
+        res->scales[k] = fmax(a->summary.scale[k], b->summary.scale[k]);
+    }
     sph_status st = SPH_OK;
+    const run_files *runs[2] = {a, b};
+    for (int k = 0; k < 2 && !st; ++k) {
+        const run_files *r = runs[k];
+        if (r->summary.note[0])
+            st = add_note(res, false, err, "run %c (%s): %s", r->label, r->dir, r->summary.note);
+        if (st || r->summary.complete) continue;
+        char text[sizeof res->incomplete];
+        sph_format(text, sizeof text, "run %c (%s) is incomplete: %s", r->label, r->dir,
+                   r->summary.why);
+        if (!opt->common_prefix && !res->incomplete[0])
+            sph_format(res->incomplete, sizeof res->incomplete, "%s", text);
+        if (opt->common_prefix)
+            st =
+                add_note(res, false, err, "%s; the common prefix compared (--common-prefix)", text);
+        else
+            st = add_note(res, true, err, "%s; --common-prefix compares the part both runs have",
+                          text);
+    }
+    if (st) return st;
     if (a->has_csv && b->has_csv)
         st = compare_timeseries(a, b, opt, res, err);
     else if (a->has_csv || b->has_csv)
@@ -811,21 +951,43 @@ static void format_where(char *buf, size_t len, const sph_compare_item *it,
 }
 
 static void print_items(FILE *f, const sph_compare_result *res, sph_compare_kind kind) {
-    fprintf(f, "  %-28s %14s %10s  %-6s %s\n", kind == SPH_COMPARE_COLUMN ? "column" : "field",
-            "max |a-b|", "rel", "status", "where");
+    fprintf(f, "  %-28s %14s %10s %10s  %-6s %s\n", kind == SPH_COMPARE_COLUMN ? "column" : "field",
+            "max |a-b|", "rel", "scale", "status", "where");
     for (int k = 0; k < res->nitems; ++k) {
         const sph_compare_item *it = &res->items[k];
         if (it->kind != kind) continue;
         char where[256];
         format_where(where, sizeof where, it, &it->max);
-        fprintf(f, "  %-28s %14.6e %10.3e  %-6s %s", it->name, it->max.abs, it->max.rel,
-                it->failed ? "FAIL" : "ok", where);
+        /* '*': the physical scale of summary.json, listed below the table */
+        fprintf(f, "  %-28s %14.6e %10.3e %10.3e%c %-6s %s", it->name, it->max.abs, it->max.rel,
+                it->max.scale, it->physical_scale >= 0 ? '*' : ' ', it->failed ? "FAIL" : "ok",
+                where);
         if (it->failed && (it->worst.abs != it->max.abs || it->worst.time != it->max.time)) {
             format_where(where, sizeof where, it, &it->worst);
             fprintf(f, "; beyond tolerance at %s: %.6e (rel %.3e)", where, it->worst.abs,
                     it->worst.rel);
         }
         fputc('\n', f);
+    }
+}
+
+/* Which scale the time-series columns were measured against. */
+static void print_scales(FILE *f, const sph_compare_result *res) {
+    bool any = false;
+    for (int k = 0; k < SPH_COMPARE_NSCALES; ++k) any = any || isfinite(res->scales[k]);
+    if (!any) {
+        fprintf(f, "  scale: the largest |value| of each column (neither run's summary.json "
+                   "states \"scales\")\n");
+        return;
+    }
+    fprintf(f, "  scale: the largest |value| of each column or, where larger (*), the\n"
+               "  physical scale of summary.json \"scales\" (the larger of the two runs):\n");
+    for (int k = 0; k < SPH_COMPARE_NSCALES; ++k) {
+        if (isfinite(res->scales[k]))
+            fprintf(f, "    %-17s %.6e  for %s\n", scale_keys[k], res->scales[k], scale_columns[k]);
+        else
+            fprintf(f, "    %-17s (not stated)  %s relative to their values\n", scale_keys[k],
+                    scale_columns[k]);
     }
 }
 
@@ -845,11 +1007,12 @@ static const sph_compare_item *worst_item(const sph_compare_result *res) {
 void sph_compare_print(FILE *f, const char *dir_a, const char *dir_b,
                        const sph_compare_options *opt, const sph_compare_result *res) {
     fprintf(f, "compare: A = %s\n         B = %s\n", dir_a, dir_b);
-    fprintf(f, "tolerance: max |a-b| <= atol + rtol * max |value|, rtol=%g, atol=%g\n", opt->rtol,
+    fprintf(f, "tolerance: max |a-b| <= atol + rtol * scale, rtol=%g, atol=%g\n", opt->rtol,
             opt->atol);
     if (res->has_timeseries) {
         fprintf(f, "time series (timeseries.csv): %d rows compared\n", res->nrows);
         print_items(f, res, SPH_COMPARE_COLUMN);
+        print_scales(f, res);
     }
     if (res->has_snapshots) {
         fprintf(f, "snapshots: %d pairs compared (times matched within %.3g s)\n", res->nsnapshots,
@@ -873,7 +1036,9 @@ void sph_compare_print(FILE *f, const char *dir_a, const char *dir_b,
         return;
     }
     const sph_compare_item *it = worst_item(res);
-    if (it && it->kind == SPH_COMPARE_FIELD)
+    if (res->incomplete[0]) /* the cause of any other difference: say it first */
+        fprintf(f, "compare: FAIL: %s", res->incomplete);
+    else if (it && it->kind == SPH_COMPARE_FIELD)
         fprintf(f,
                 "compare: FAIL: %s differs by %.6e (rel %.3e) at particle %ld, component %d, "
                 "t = %.9g s",
@@ -893,14 +1058,21 @@ void sph_compare_print(FILE *f, const char *dir_a, const char *dir_b,
 
 static const char compare_usage[] =
     "usage: sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,c]\n"
+    "                        [--common-prefix]\n"
     "\n"
     "Compare two run directories: timeseries.csv row by row, and the snapshots\n"
     "matched by time (/VTKHDF/Points and the point-data fields present in both).\n"
-    "A field fails when max |a-b| > atol + rtol * max |value|.\n"
+    "A field fails when max |a-b| > atol + rtol * scale, scale = max |value|, and\n"
+    "for the momentum, angular momentum and energy columns at least the physical\n"
+    "scale of the runs' summary.json \"scales\" (quantities zero in theory).\n"
+    "An incomplete run (killed or still running: no summary.json) fails.\n"
     "--rtol    relative tolerance (default 1e-9)\n"
     "--atol    absolute tolerance (default 0)\n"
     "--fields  compare only these point-data fields (Points included by name)\n"
-    "exit status: 0 within tolerance, 3 differences beyond it, 2 bad input, 1 runtime failure\n";
+    "--common-prefix  compare the part both runs have: an incomplete run (its\n"
+    "          timeseries.csv.partial) and different row counts are no failure\n"
+    "exit status: 0 within tolerance, 3 differences beyond it or an incomplete run,\n"
+    "             2 bad input, 1 runtime failure\n";
 
 static int usage_error(const char *fmt, const char *arg) {
     fprintf(stderr, "sphsolid compare: ");
@@ -967,6 +1139,10 @@ int sph_compare_main(int argc, char **argv) {
             if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
                 fputs(compare_usage, stdout);
                 goto done;
+            }
+            if (strcmp(a, "--common-prefix") == 0) {
+                opt.common_prefix = true;
+                continue;
             }
             const bool takes_value =
                 strcmp(a, "--rtol") == 0 || strcmp(a, "--atol") == 0 || strcmp(a, "--fields") == 0;

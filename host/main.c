@@ -3,7 +3,7 @@
  *   sphsolid run SCENE [--set key=value]... [--backend opencl|cpu] [--device N]
  *                      [--precision double|single|mixed] [--out DIR] [--quiet] [--profile]
  *                      [--checkpoint-every T] [--checkpoint-wall S] [--progress-interval S]
- *                      [--plot] [--pair-geometry auto|stored|recomputed]
+ *                      [--plot] [--pair-geometry auto|stored|recomputed] [--no-work-limit]
  *                      [--step-clock auto|device|host]
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
@@ -37,12 +37,13 @@ static void usage(FILE *f) {
         "                          [--precision double|single|mixed] [--out DIR] [--quiet] "
         "[--profile]\n"
         "                          [--checkpoint-every T] [--checkpoint-wall S]\n"
-        "                          [--progress-interval S] [--plot]\n"
+        "                          [--progress-interval S] [--plot] [--no-work-limit]\n"
         "                          [--pair-geometry auto|stored|recomputed]\n"
         "                          [--step-clock auto|device|host]\n"
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
         "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
         "       sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]\n"
+        "                             [--steps N] [--seed S] [--exclude E]\n"
         "       sphsolid devices\n"
         "       sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K]\n"
         "                          [--json]\n"
@@ -50,15 +51,21 @@ static void usage(FILE *f) {
         "\n"
         "run       simulate a scene file (see docs/scene-format.md); results go to DIR\n"
         "          (default: runs/<scene directory name>): timeseries.csv, summary.json,\n"
-        "          snapshots (VTKHDF, open snapshots.hdf.series in ParaView)\n"
+        "          snapshots (VTKHDF, open snapshots.hdf.series in ParaView); one process\n"
+        "          at a time in DIR: a second run (or restart, relax --out) there is refused\n"
         "--set     override any scene value, e.g. --set resolution.ratio=30\n"
         "--backend opencl: an OpenCL device (--device N, see `sphsolid devices`);\n"
         "          cpu: the native backend.  Default: an OpenCL GPU if present, else cpu\n"
         "--profile time every phase (device kernels, host steps) into summary.json\n"
         "--checkpoint-every T  write DIR/checkpoint/checkpoint.h5 every T simulated seconds\n"
         "--checkpoint-wall S   ... or every S seconds of wall time\n"
-        "--restart DIR         continue the run in DIR from its checkpoint (in DIR, or --out)\n"
+        "--restart DIR         continue the run in DIR from its checkpoint (in DIR, or --out),\n"
+        "                      writing checkpoints as it did unless the flags above are given\n"
         "--progress-interval S seconds between progress lines when stderr is not a terminal\n"
+        "--no-work-limit  run even when the predicted work is absurd (more substeps,\n"
+        "          particle-substeps or outputs than its limits, a material faster than\n"
+        "          sound in any solid, more output than the free disk): warn instead\n"
+        "          (docs/scene-format.md, \"Predicted work\")\n"
         "--plot    write PNG plots into DIR/plots after the run (tools/plot_run.py)\n"
         "--pair-geometry  OpenCL: the acoustic passes read the frozen pair geometry from\n"
         "          per-pair arrays (stored) or recompute it (recomputed); auto (default):\n"
@@ -201,6 +208,8 @@ static int cmd_run(int argc, char **argv) {
                 opt.progress_interval = x;
         } else if (strcmp(a, "--plot") == 0) {
             plot = true;
+        } else if (strcmp(a, "--no-work-limit") == 0) {
+            opt.no_work_limit = true;
         } else if (strcmp(a, "--quiet") == 0) {
             opt.quiet = true;
         } else if (strcmp(a, "--profile") == 0) {
@@ -255,17 +264,21 @@ static int cmd_run(int argc, char **argv) {
                 sim.stats.wall_seconds, sim.stats.particle_substeps_per_second / 1e6, out_dir);
         if (isfinite(sim.metrics.first_period))
             fprintf(stderr, "sphsolid: first period %.5f s\n", sim.metrics.first_period);
-        if (isfinite(sim.metrics.max_angular_momentum_error) && sim.particles.fixed_count == 0)
+        if (isfinite(sim.metrics.max_angular_momentum_error))
             fprintf(stderr, "sphsolid: max angular-momentum error %.3f %%\n",
                     100.0 * sim.metrics.max_angular_momentum_error);
+        else if (sim.metrics.angular_momentum_not_conserved[0])
+            fprintf(stderr, "sphsolid: angular momentum not conserved (%s): no error reported\n",
+                    sim.metrics.angular_momentum_not_conserved);
     }
-    sph_simulation_close(&sim);
-    free(overrides);
     if (!st && plot) {
         sph_error perr = {0};
         st = sph_plot_run(out_dir, opt.quiet, &perr);
         if (st) fprintf(stderr, "sphsolid: %s\n", perr.msg);
     }
+    /* after the plots: the directory stays this run's until they are in it */
+    sph_simulation_close(&sim);
+    free(overrides);
     return (int)st;
 }
 
@@ -332,7 +345,24 @@ static int cmd_relax(int argc, char **argv) {
     if (!st && out)
         snprintf(scene->bodies[which].relaxation.file, sizeof scene->bodies[which].relaxation.file,
                  "%s", out);
+    /* --out into a run's directory waits for no one: refused while a run or
+     * a restart holds it (run.h, sph_dir_lock) */
+    sph_dir_lock lock = {.fd = -1};
+    if (!st && out) {
+        char dir[PATH_MAX], label[PATH_MAX + 32];
+        snprintf(dir, sizeof dir, "%s", out);
+        char *slash = strrchr(dir, '/');
+        if (!slash)
+            snprintf(dir, sizeof dir, ".");
+        else if (slash == dir)
+            slash[1] = '\0';
+        else
+            *slash = '\0';
+        snprintf(label, sizeof label, "--out %s: directory", out);
+        st = sph_dir_lock_take(&lock, dir, SPH_DIR_LOCK_IF_USED, label, &err);
+    }
     if (!st) st = sph_particles_generate_ex(scene, &p, force, &err);
+    sph_dir_lock_release(&lock);
     if (st) {
         fprintf(stderr, "sphsolid: %s\n", err.msg);
     } else {

@@ -4,6 +4,9 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -46,7 +49,7 @@ static bool stream_ok(FILE *f, const char *path) {
     return !ferror(f) && fflush(f) == 0;
 }
 
-static sph_status make_dirs(const char *dir, sph_error *err) {
+sph_status sph_output_make_dirs(const char *dir, sph_error *err) {
     char path[1024];
     if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
         return sph_fail(err, SPH_ERR_INPUT, "--out %s: path too long", dir);
@@ -71,10 +74,63 @@ static const char *axis_name(int a) {
     return a == 0 ? "x" : (a == 1 ? "y" : "z");
 }
 
+/* Most columns of timeseries.csv: the fixed ones and 3 per observer. */
+#define MAX_COLUMNS (12 + 3 * SPH_SCENE_MAX_OBSERVERS)
+
+/* The header's column names.  They are written as they are, unquoted:
+ * `sphsolid compare` and tools/plot_run.py split lines at commas, so no
+ * column name may hold a comma, a quote or a line break, and none may repeat
+ * another.  The scene's name rule (sph_name_check) keeps observer names so;
+ * a scene built otherwise (a test, the fuzz harness) is refused here the
+ * same way rather than writing a file its readers reject. */
+static sph_status csv_columns(const sph_scene *scene, char names[][SPH_NAME_LEN + 24], int *count,
+                              sph_error *err) {
+    int n = 0;
+    const char *fixed[] = {"time", "kinetic_energy", "strain_energy", "total_energy"};
+    for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k)
+        snprintf(names[n++], SPH_NAME_LEN + 24, "%s", fixed[k]);
+    for (int a = 0; a < scene->dim; ++a)
+        snprintf(names[n++], SPH_NAME_LEN + 24, "momentum_%s", axis_name(a));
+    if (scene->dim == 2) {
+        snprintf(names[n++], SPH_NAME_LEN + 24, "angular_momentum");
+    } else {
+        for (int a = 0; a < 3; ++a)
+            snprintf(names[n++], SPH_NAME_LEN + 24, "angular_momentum_%s", axis_name(a));
+    }
+    snprintf(names[n++], SPH_NAME_LEN + 24, "min_distance_ratio");
+    snprintf(names[n++], SPH_NAME_LEN + 24, "zigzag_indicator");
+    if (scene->nobservers < 0 || scene->nobservers > SPH_SCENE_MAX_OBSERVERS)
+        return sph_fail(err, SPH_ERR_INPUT, "timeseries.csv: %d observers (at most %d)",
+                        scene->nobservers, SPH_SCENE_MAX_OBSERVERS);
+    for (int o = 0; o < scene->nobservers; ++o) {
+        char why[256];
+        if (!sph_name_check(scene->observers[o].name, why, sizeof why))
+            return sph_fail(err, SPH_ERR_INPUT, "timeseries.csv: observers[%d].name: %s", o, why);
+        for (int a = 0; a < scene->dim; ++a)
+            snprintf(names[n++], SPH_NAME_LEN + 24, "%s_%s", scene->observers[o].name,
+                     axis_name(a));
+    }
+    for (int c = 1; c < n; ++c)
+        for (int k = 0; k < c; ++k)
+            if (strcmp(names[c], names[k]) == 0)
+                return sph_fail(err, SPH_ERR_INPUT,
+                                "timeseries.csv: column %s would appear twice (an observer's name "
+                                "repeats another or a built-in column)",
+                                names[c]);
+    *count = n;
+    return SPH_OK;
+}
+
 sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *scene,
                            const sph_timeseries *resumed, sph_error *err) {
     memset(out, 0, sizeof *out);
-    sph_status st = make_dirs(dir, err);
+    if (scene->dim != 2 && scene->dim != 3)
+        return sph_fail(err, SPH_ERR_INPUT, "timeseries.csv: dimension %d", scene->dim);
+    char columns[MAX_COLUMNS][SPH_NAME_LEN + 24];
+    int ncolumns = 0;
+    sph_status st = csv_columns(scene, columns, &ncolumns, err);
+    if (st) return st;
+    st = sph_output_make_dirs(dir, err);
     if (st) return st;
     snprintf(out->dir, sizeof out->dir, "%s", dir);
     snprintf(out->csv_final, sizeof out->csv_final, "%s/timeseries.csv", dir);
@@ -94,16 +150,7 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
                         strerror(errno));
     out->dim = scene->dim;
     out->nobservers = scene->nobservers;
-    fprintf(out->csv, "time,kinetic_energy,strain_energy,total_energy");
-    for (int a = 0; a < scene->dim; ++a) fprintf(out->csv, ",momentum_%s", axis_name(a));
-    if (scene->dim == 2)
-        fprintf(out->csv, ",angular_momentum");
-    else
-        fprintf(out->csv, ",angular_momentum_x,angular_momentum_y,angular_momentum_z");
-    fprintf(out->csv, ",min_distance_ratio,zigzag_indicator");
-    for (int o = 0; o < scene->nobservers; ++o)
-        for (int a = 0; a < scene->dim; ++a)
-            fprintf(out->csv, ",%s_%s", scene->observers[o].name, axis_name(a));
+    for (int c = 0; c < ncolumns; ++c) fprintf(out->csv, "%s%s", c ? "," : "", columns[c]);
     fputc('\n', out->csv);
     if (!stream_ok(out->csv, out->csv_partial))
         return sph_fail(err, SPH_ERR_RUNTIME, "cannot write %s: %s", out->csv_partial,
@@ -192,4 +239,79 @@ sph_status sph_output_write_json(const char *dir, const char *name, json_object 
         return st;
     }
     return SPH_OK;
+}
+
+/* The length of the well-formed UTF-8 sequence at s[0..n) (n > 0), or 0 with
+ * the length of its maximal ill-formed subpart in *bad (Unicode 15, 3.9,
+ * Table 3-7: the second byte's range depends on the first). */
+static size_t utf8_sequence(const unsigned char *s, size_t n, size_t *bad) {
+    const unsigned char c = s[0];
+    size_t len;
+    unsigned char lo = 0x80, hi = 0xBF; /* the second byte's range */
+    if (c < 0x80) return 1;
+    if (c >= 0xC2 && c <= 0xDF)
+        len = 2;
+    else if (c >= 0xE0 && c <= 0xEF) {
+        len = 3;
+        if (c == 0xE0) lo = 0xA0; /* overlong */
+        if (c == 0xED) hi = 0x9F; /* surrogates */
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        len = 4;
+        if (c == 0xF0) lo = 0x90; /* overlong */
+        if (c == 0xF4) hi = 0x8F; /* beyond U+10FFFF */
+    } else {
+        *bad = 1; /* a continuation byte, C0, C1 or F5..FF */
+        return 0;
+    }
+    size_t k = 1;
+    for (; k < len && k < n; ++k) {
+        const unsigned char b = s[k];
+        if (k == 1 ? (b < lo || b > hi) : (b < 0x80 || b > 0xBF)) break;
+    }
+    if (k == len) return len;
+    *bad = k;
+    return 0;
+}
+
+char *sph_utf8_repair(const char *s, size_t len, size_t *out_len) {
+    /* U+FFFD takes 3 bytes and replaces at least 1 */
+    if (len > (SIZE_MAX - 1) / 3) return NULL;
+    char *out = malloc(3 * len + 1);
+    if (!out) return NULL;
+    const unsigned char *p = (const unsigned char *)s;
+    size_t i = 0, o = 0;
+    while (i < len) {
+        size_t bad = 0;
+        const size_t n = utf8_sequence(p + i, len - i, &bad);
+        if (n) {
+            memcpy(out + o, p + i, n);
+            o += n;
+            i += n;
+        } else {
+            memcpy(out + o, "\xEF\xBF\xBD", 3);
+            o += 3;
+            i += bad;
+        }
+    }
+    out[o] = '\0';
+    *out_len = o;
+    return out;
+}
+
+json_object *sph_json_string_len(const char *s, size_t len) {
+    if (!s) return json_object_new_string("");
+    size_t n = 0;
+    char *text = sph_utf8_repair(s, len, &n);
+    if (!text || n > INT_MAX) {
+        free(text);
+        return NULL;
+    }
+    /* with its length: a NUL byte stays one (json-c writes \u0000) */
+    json_object *o = json_object_new_string_len(text, (int)n);
+    free(text);
+    return o;
+}
+
+json_object *sph_json_string(const char *s) {
+    return sph_json_string_len(s, s ? strlen(s) : 0);
 }

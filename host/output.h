@@ -24,6 +24,11 @@ typedef struct {
     int dim, nobservers;
 } sph_output;
 
+/* Create `dir` and its parents (exit-1 messages naming the path that could
+ * not be made; a path that is not a directory is refused).  The run's
+ * directory lock (run.c) is taken in it before sph_output_open clears it. */
+sph_status sph_output_make_dirs(const char *dir, sph_error *err);
+
 /* Create the directory (with parents), clear old results, start the CSV.
  * A fresh run (`resumed` NULL) also removes an old checkpoint; a restart
  * writes the rows recorded before its checkpoint first. */
@@ -41,5 +46,20 @@ sph_status sph_output_close(sph_output *out, bool success, sph_error *err);
  * in sph_output_close. */
 sph_status sph_output_write_json(const char *dir, const char *name, json_object *obj,
                                  sph_error *err);
+
+/* A JSON string of any bytes: every string that goes into summary.json (and
+ * the snapshots' "parameters") is made through these.  json-c writes a
+ * string's bytes as they are, and a title, a path or an override may hold
+ * any bytes: here each ill-formed UTF-8 subsequence (a stray byte, a
+ * truncated or overlong sequence, a surrogate, beyond U+10FFFF) becomes
+ * U+FFFD, one per maximal subpart as Unicode recommends (what Python's
+ * bytes.decode("utf-8", "replace") gives), so the file is valid UTF-8 JSON
+ * (docs/output-format.md).  NULL `s` is "". */
+json_object *sph_json_string(const char *s);
+json_object *sph_json_string_len(const char *s, size_t len);
+/* The same as text: `s` (len bytes) as valid UTF-8 into a new NUL-terminated
+ * string of *out_len bytes (at most 3 * len: NUL bytes of `s` are kept);
+ * NULL when out of memory. */
+char *sph_utf8_repair(const char *s, size_t len, size_t *out_len);
 
 #endif

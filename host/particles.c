@@ -238,6 +238,135 @@ static void format_point(const double x[3], int dim, char *buf, size_t len) {
         snprintf(buf, len, "(%g, %g, %g)", x[0], x[1], x[2]);
 }
 
+/* The bounding box of body b's particles [start, start + count). */
+static void body_span(const sph_particles *p, long start, long count, double lo[3], double hi[3]) {
+    const size_t n = (size_t)p->n;
+    for (int a = 0; a < 3; a++) lo[a] = hi[a] = 0.0;
+    for (int a = 0; a < p->dim; a++) {
+        lo[a] = INFINITY;
+        hi[a] = -INFINITY;
+        for (long i = start; i < start + count; i++) {
+            const double x = p->pos[(size_t)a * n + (size_t)i];
+            lo[a] = fmin(lo[a], x);
+            hi[a] = fmax(hi[a], x);
+        }
+    }
+}
+
+/* Every constraint must select particles of its body: a region that holds
+ * none (a typo in its coordinates, a region of another body, one thinner
+ * than dp between lattice points), or whose particles all take a constraint
+ * listed before it, would leave the body silently unconstrained there.
+ * Checked on the lattice; relax_bodies checks the relaxed positions. */
+static sph_status check_constraint_regions(const sph_scene *scene, const sph_particles *p,
+                                           sph_error *err) {
+    const int dim = scene->dim;
+    const size_t n = (size_t)p->n;
+    long start = 0;
+    for (int b = 0; b < scene->nbodies; b++) {
+        const sph_body *body = &scene->bodies[b];
+        const long count = p->body_count[b];
+        long held[SPH_SCENE_MAX_CONSTRAINTS] = {0}, taken[SPH_SCENE_MAX_CONSTRAINTS] = {0};
+        for (long i = start; i < start + count && body->nconstraints > 0; i++) {
+            double x[3] = {0, 0, 0};
+            for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + (size_t)i];
+            for (int k = 0; k < body->nconstraints; k++)
+                held[k] += sph_shape_contains(scene, body->constraints[k].region, x);
+            const int f = p->fixed[i];
+            if (f > 0) taken[f - 1 - sph_constraint_index(scene, b, 0)]++;
+        }
+        for (int k = 0; k < body->nconstraints; k++) {
+            const sph_constraint *con = &body->constraints[k];
+            const char *region = scene->shapes[con->region].name;
+            if (held[k] == 0) {
+                double rlo[3], rhi[3], blo[3], bhi[3];
+                char rl[96], rh[96], bl[96], bh[96];
+                sph_shape_bounds(scene, con->region, rlo, rhi);
+                body_span(p, start, count, blo, bhi);
+                format_point(rlo, dim, rl, sizeof rl);
+                format_point(rhi, dim, rh, sizeof rh);
+                format_point(blo, dim, bl, sizeof bl);
+                format_point(bhi, dim, bh, sizeof bh);
+                return sph_fail(err, SPH_ERR_INPUT,
+                                "%s: region '%s' (within %s to %s) holds none of the %ld particles "
+                                "of body '%s' (%s to %s, spacing dp = %g), so the constraint "
+                                "would do nothing; make the region cover the particles to "
+                                "constrain",
+                                con->where, region, rl, rh, count, body->name, bl, bh, scene->dp);
+            }
+            if (taken[k] == 0) {
+                int first = 0;
+                for (int j = 0; j < k; j++) {
+                    double x[3] = {0, 0, 0};
+                    bool shared = false;
+                    for (long i = start; i < start + count && !shared; i++) {
+                        for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + (size_t)i];
+                        shared = sph_shape_contains(scene, con->region, x) &&
+                                 sph_shape_contains(scene, body->constraints[j].region, x);
+                    }
+                    if (shared) {
+                        first = j;
+                        break;
+                    }
+                }
+                return sph_fail(err, SPH_ERR_INPUT,
+                                "%s: every one of the %ld particles of body '%s' in region '%s' "
+                                "takes an earlier constraint (a particle takes the first listed "
+                                "whose region holds it; constraint [%d], region '%s'), so this "
+                                "one would do nothing",
+                                con->where, held[k], body->name, region, first,
+                                scene->shapes[body->constraints[first].region].name);
+            }
+        }
+        start += count;
+    }
+    return SPH_OK;
+}
+
+/* A given monitor.domain must hold every particle at the start: the
+ * monitor would otherwise stop the run at t = 0 as an instability. */
+static sph_status check_monitor_domain(const sph_scene *scene, const sph_particles *p,
+                                       sph_error *err) {
+    if (!scene->monitor_has_domain || scene->monitor_action == SPH_MONITOR_OFF) return SPH_OK;
+    const int dim = scene->dim;
+    const size_t n = (size_t)p->n;
+    const double *lower = scene->monitor_domain_lower, *upper = scene->monitor_domain_upper;
+    long start = 0;
+    for (int b = 0; b < scene->nbodies; b++) {
+        const long count = p->body_count[b];
+        long outside = 0, first = -1;
+        for (long i = start; i < start + count; i++) {
+            bool in = true;
+            for (int a = 0; a < dim; a++) {
+                const double x = p->pos[(size_t)a * n + (size_t)i];
+                in = in && x >= lower[a] && x <= upper[a];
+            }
+            if (!in && first < 0) first = i;
+            outside += !in;
+        }
+        if (outside > 0) {
+            const sph_body *body = &scene->bodies[b];
+            double x[3] = {0, 0, 0}, blo[3], bhi[3];
+            for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + (size_t)first];
+            body_span(p, start, count, blo, bhi);
+            char pt[96], dl[96], du[96], bl[96], bh[96];
+            format_point(x, dim, pt, sizeof pt);
+            format_point(lower, dim, dl, sizeof dl);
+            format_point(upper, dim, du, sizeof du);
+            format_point(blo, dim, bl, sizeof bl);
+            format_point(bhi, dim, bh, sizeof bh);
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s: %ld of the %ld particles of body '%s' (%s) start outside the "
+                            "domain %s to %s, the first at %s; the body's particles span %s to "
+                            "%s, and the domain must contain them all",
+                            scene->monitor_domain_where, outside, count, body->name, body->where,
+                            dl, du, pt, bl, bh);
+        }
+        start += count;
+    }
+    return SPH_OK;
+}
+
 void sph_format_bytes(double bytes, char *buf, size_t len) {
     static const char *const units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
     int u = 0;
@@ -405,7 +534,9 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     for (int b = 0; b < scene->nbodies; b++) start += scan_body(scene, b, origin, out, start, NULL);
     out->fixed_count = 0;
     for (size_t i = 0; out->fixed && i < n; i++) out->fixed_count += out->fixed[i] != 0;
-    sph_status rst = relax_bodies(scene, origin, force_relax, out, err);
+    sph_status rst = check_constraint_regions(scene, out, err);
+    if (!rst) rst = relax_bodies(scene, origin, force_relax, out, err);
+    if (!rst) rst = check_monitor_domain(scene, out, err);
     if (rst) {
         sph_particles_free(out);
         return rst;

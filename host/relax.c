@@ -610,7 +610,9 @@ static bool read_matching(const sph_scene *scene, int body, const double origin[
     DIFFERS(strcmp(shape_hash, hash) != 0,
             "the shape '%s' differs from the one relaxed (shape hash %s in the file, %s now)",
             scene->shapes[b->shape].name, shape_hash, hash);
-    DIFFERS(seed != rx->seed, "seed differs (file %" PRId64 ", scene %lld)", seed, rx->seed);
+    /* the file keeps the seed's 64 bits in a signed attribute */
+    DIFFERS((uint64_t)seed != rx->seed, "seed differs (file %" PRIu64 ", scene %" PRIu64 ")",
+            (uint64_t)seed, rx->seed);
     DIFFERS(perturbation != rx->perturbation, "perturbation differs (file %.17g, scene %.17g)",
             perturbation, rx->perturbation);
     DIFFERS(steps != rx->steps, "steps differ (file %" PRId64 ", scene %d)", steps, rx->steps);
@@ -682,7 +684,7 @@ static sph_status write_file(const sph_scene *scene, int body, const double orig
     char hash[17];
     hash_hex(sph_shape_hash(scene, b->shape), hash);
     const hsize_t dims[2] = {(hsize_t)n, (hsize_t)dim};
-    const int64_t version = FILE_VERSION, dimension = dim, count = n, seed = rx->seed,
+    const int64_t version = FILE_VERSION, dimension = dim, count = n, seed = (int64_t)rx->seed,
                   steps = rx->steps, taken = rep->steps;
     static const char *const origin_names[3] = {"lattice_origin_x", "lattice_origin_y",
                                                 "lattice_origin_z"};

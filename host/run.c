@@ -5,6 +5,7 @@
 #include "output.h"
 #include "snapshot.h"
 #include "wall_clock.h"
+#include "work_estimate.h"
 
 #include <json-c/json.h>
 #include <math.h>
@@ -12,8 +13,106 @@
 #include <stdlib.h>
 #include <string.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#define LOCK_FILE ".sphsolid.lock"
+
+/* fcntl errors that say the filesystem keeps no locks, not that another
+ * process holds this one: a run there goes on without the guard. */
+static bool no_locks_here(int e) {
+    return e == ENOLCK || e == EINVAL || e == ENOSYS || e == EOPNOTSUPP;
+}
+
+/* POSIX record locks (fcntl), not flock(2), which _POSIX_C_SOURCE hides:
+ * the same guarantees here (the kernel drops them when the process dies),
+ * and F_GETLK names the holder's pid.  They belong to the process: closing
+ * any descriptor of the file drops them, so a process opens each directory's
+ * lock file once (a restart in place takes one lock, sph_simulation_open). */
+sph_status sph_dir_lock_take(sph_dir_lock *lock, const char *dir, sph_dir_lock_mode mode,
+                             const char *label, sph_error *err) {
+    memset(lock, 0, sizeof *lock);
+    lock->fd = -1;
+    if (mode == SPH_DIR_LOCK_RUN) {
+        const sph_status st = sph_output_make_dirs(dir, err);
+        if (st) return st;
+    }
+    char path[PATH_MAX];
+    if (snprintf(path, sizeof path, "%s/%s", dir, LOCK_FILE) >= (int)sizeof path)
+        return sph_fail(err, SPH_ERR_INPUT, "%s %s: path too long", label, dir);
+    const bool exclusive = mode != SPH_DIR_LOCK_SOURCE;
+    int fd = open(path, O_RDWR | O_CLOEXEC | (mode == SPH_DIR_LOCK_IF_USED ? 0 : O_CREAT), 0666);
+    if (fd < 0 && mode == SPH_DIR_LOCK_SOURCE) fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        /* a restart's source where no lock file can be made (read-only,
+         * missing: the checkpoint read then says why), or a relax --out
+         * directory no run has used: nothing to keep out */
+        if (mode != SPH_DIR_LOCK_RUN) return SPH_OK;
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot create %s: %s", path, strerror(errno));
+    }
+    for (int tries = 0;; ++tries) {
+        struct flock fl = {.l_type = exclusive ? F_WRLCK : F_RDLCK, .l_whence = SEEK_SET};
+        if (fcntl(fd, F_SETLK, &fl) == 0) {
+            lock->fd = fd;
+            lock->held = true;
+            lock->exclusive = exclusive;
+            return SPH_OK;
+        }
+        const int e = errno;
+        if (e == EINTR) continue;
+        if (no_locks_here(e)) {
+            close(fd);
+            return SPH_OK;
+        }
+        if (e != EACCES && e != EAGAIN) {
+            close(fd);
+            return sph_fail(err, SPH_ERR_RUNTIME, "cannot lock %s: %s", path, strerror(e));
+        }
+        const bool known = fcntl(fd, F_GETLK, &fl) == 0;
+        if (known && fl.l_type == F_UNLCK && tries < 3) continue; /* released meanwhile */
+        close(fd);
+        char pid[48] = "";
+        if (known && fl.l_type != F_UNLCK && fl.l_pid > 0)
+            snprintf(pid, sizeof pid, " (pid %ld)", (long)fl.l_pid);
+        return sph_fail(err, SPH_ERR_RUNTIME,
+                        "%s %s is in use by another sphsolid process%s: wait for it to finish or "
+                        "choose another directory",
+                        label, dir, pid);
+    }
+}
+
+void sph_dir_lock_release(sph_dir_lock *lock) {
+    if (lock->held) close(lock->fd);
+    lock->held = false;
+    lock->fd = -1;
+}
+
+/* Whether two paths name one directory ("a" and "./a"): a restart there is
+ * in place and takes one lock. */
+static bool same_directory(const char *a, const char *b) {
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && S_ISDIR(sa.st_mode) &&
+           sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* The output directory becomes this run's: nothing in it changes before the
+ * lock is held (sph_output_open then removes the previous results). */
+static sph_status lock_out_dir(sph_simulation *sim, sph_error *err) {
+    const char *dir = sim->options.out_dir;
+    sph_status st =
+        sph_dir_lock_take(&sim->out_lock, dir, SPH_DIR_LOCK_RUN, "output directory", err);
+    if (st) return st;
+    /* only the lock's holder writes a checkpoint here: a .partial one now was
+     * left by a run that died writing it, and would outlive this run */
+    char ck[1200], partial[1300];
+    sph_checkpoint_path(dir, ck, sizeof ck);
+    snprintf(partial, sizeof partial, "%s.partial", ck);
+    if (unlink(partial) != 0 && errno != ENOENT)
+        return sph_fail(err, SPH_ERR_RUNTIME, "cannot remove %s: %s", partial, strerror(errno));
+    return SPH_OK;
+}
 
 /* A restart's scene: the resolved text stored in the checkpoint, with the
  * overrides a continuation may change (a later end time, other output). */
@@ -45,6 +144,37 @@ static sph_status restart_scene(const sph_run_options *opt, sph_scene *scene, sp
     return st;
 }
 
+/* A restart up to its scene: the locks, the checkpoint's time and settings,
+ * the stored scene.  In place, the run's own lock comes before anything is
+ * read; elsewhere the source is held shared, so that no run replaces the
+ * checkpoint and snapshots this one reads and copies. */
+static sph_status restart_open(sph_simulation *sim, sph_error *err) {
+    sph_run_options *opt = &sim->options;
+    const char *dir = opt->restart_dir;
+    const bool in_place = opt->out_dir && same_directory(dir, opt->out_dir);
+    sph_status st = in_place ? lock_out_dir(sim, err)
+                             : sph_dir_lock_take(&sim->source_lock, dir, SPH_DIR_LOCK_SOURCE,
+                                                 "restart directory", err);
+    if (!st) st = restart_scene(opt, &sim->scene, err);
+    if (st) return st;
+    sim->scene_loaded = true;
+    sph_checkpoint_info info;
+    st = sph_checkpoint_read_info(dir, &info, err);
+    if (st) return st;
+    if (sim->scene.end_time < info.time) {
+        char ck[1200];
+        sph_checkpoint_path(dir, ck, sizeof ck);
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "time.end = %.9g s is before the time of the checkpoint %s, t = %.9g s: a "
+                        "restart continues from there (give --set time.end=%.9g or later)",
+                        sim->scene.end_time, ck, info.time, info.time);
+    }
+    /* the run's checkpoints go on (a flag given now overrides its own one) */
+    if (!(opt->checkpoint_every > 0)) opt->checkpoint_every = info.checkpoint_every;
+    if (!(opt->checkpoint_wall > 0)) opt->checkpoint_wall = info.checkpoint_wall;
+    return in_place || !opt->out_dir ? SPH_OK : lock_out_dir(sim, err);
+}
+
 sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, sph_error *err) {
     memset(sim, 0, sizeof *sim);
     sim->options = *opt;
@@ -52,12 +182,15 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
     const double t0 = sph_wall_seconds();
     sph_status st;
     if (opt->restart_dir) {
-        st = restart_scene(opt, &sim->scene, err);
+        st = restart_open(sim, err);
+        if (st) return st;
     } else {
         st = sph_scene_load(&sim->scene, opt->scene_path, opt->overrides, opt->noverrides, err);
+        if (st) return st;
+        sim->scene_loaded = true;
+        if (opt->out_dir) st = lock_out_dir(sim, err);
+        if (st) return st;
     }
-    if (st) return st;
-    sim->scene_loaded = true;
     st = sph_particles_generate(&sim->scene, &sim->particles, err);
     if (st) return st;
     for (int b = 0; b < sim->scene.nbodies && !opt->quiet; b++) {
@@ -102,8 +235,7 @@ static json_object *resolved_json(const sph_simulation *sim) {
     json_object_object_add(res, "smoothing_length", json_object_new_double(sim->prm[PRM_H]));
     json_object_object_add(res, "cutoff", json_object_new_double(sim->prm[PRM_CUTOFF]));
     json_object_object_add(res, "xi_e", json_object_new_double(sc->xi_e));
-    json_object_object_add(res, "stepping",
-                           json_object_new_string(sph_stepping_name(sc->stepping)));
+    json_object_object_add(res, "stepping", sph_json_string(sph_stepping_name(sc->stepping)));
     json_object_object_add(res, "cfl_advection", json_object_new_double(sc->cfl_advection));
     json_object_object_add(res, "cfl_acoustic", json_object_new_double(sc->cfl_acoustic));
     json_object_object_add(res, "reference_speed", num(sim->stats.reference_speed));
@@ -118,7 +250,7 @@ static json_object *resolved_json(const sph_simulation *sim) {
     for (int m = 0; m < sc->nmaterials; ++m) {
         json_object *o = json_object_new_object();
         const sph_material *mt = &sc->materials[m];
-        json_object_object_add(o, "name", json_object_new_string(mt->name));
+        json_object_object_add(o, "name", sph_json_string(mt->name));
         json_object_object_add(o, "density", json_object_new_double(mt->density));
         json_object_object_add(o, "youngs_modulus", json_object_new_double(mt->youngs_modulus));
         json_object_object_add(o, "poisson_ratio", json_object_new_double(mt->poisson_ratio));
@@ -131,7 +263,7 @@ static json_object *resolved_json(const sph_simulation *sim) {
     json_object *bodies = json_object_new_array();
     for (int b = 0; b < sc->nbodies; ++b) {
         json_object *o = json_object_new_object();
-        json_object_object_add(o, "name", json_object_new_string(sc->bodies[b].name));
+        json_object_object_add(o, "name", sph_json_string(sc->bodies[b].name));
         json_object_object_add(o, "particles", json_object_new_int(sim->particles.body_count[b]));
         json_object_array_add(bodies, o);
     }
@@ -140,30 +272,30 @@ static json_object *resolved_json(const sph_simulation *sim) {
     return res;
 }
 
+/* Every string goes in through sph_json_string (output.h): the title, the
+ * scene path, the overrides and the resolved text are the user's bytes, and
+ * json-c copies bytes that are not UTF-8 into the file unchanged. */
 static json_object *summary_json(const sph_simulation *sim) {
     const sph_scene *sc = &sim->scene;
     const sph_backend *be = sim->backend;
     json_object *root = json_object_new_object();
-    json_object_object_add(root, "sphsolid_version", json_object_new_string(SPHSOLID_VERSION));
-    json_object_object_add(root, "commit", json_object_new_string(sph_build_commit()));
+    json_object_object_add(root, "sphsolid_version", sph_json_string(SPHSOLID_VERSION));
+    json_object_object_add(root, "commit", sph_json_string(sph_build_commit()));
     const bool unstable = isfinite(sim->stats.instability_time) && sim->stats.instability_stopped;
-    json_object_object_add(root, "status",
-                           json_object_new_string(unstable ? "unstable" : "completed"));
+    json_object_object_add(root, "status", sph_json_string(unstable ? "unstable" : "completed"));
     if (isfinite(sim->stats.instability_time)) {
         json_object *ins = json_object_new_object();
         json_object_object_add(ins, "time", json_object_new_double(sim->stats.instability_time));
-        json_object_object_add(ins, "quantity",
-                               json_object_new_string(sim->stats.instability_quantity));
+        json_object_object_add(ins, "quantity", sph_json_string(sim->stats.instability_quantity));
         json_object_object_add(ins, "value", num(sim->stats.instability_value));
         json_object_object_add(ins, "threshold", num(sim->stats.instability_threshold));
         if (sim->stats.instability_field[0])
-            json_object_object_add(ins, "field",
-                                   json_object_new_string(sim->stats.instability_field));
+            json_object_object_add(ins, "field", sph_json_string(sim->stats.instability_field));
         if (sim->stats.instability_particle >= 0) {
             const int b = sim->stats.instability_body;
             json_object_object_add(ins, "particle",
                                    json_object_new_int64(sim->stats.instability_particle));
-            json_object_object_add(ins, "body", json_object_new_string(sc->bodies[b].name));
+            json_object_object_add(ins, "body", sph_json_string(sc->bodies[b].name));
             json_object *x = json_object_new_array();
             for (int k = 0; k < sc->dim; ++k)
                 json_object_array_add(x,
@@ -175,48 +307,44 @@ static json_object *summary_json(const sph_simulation *sim) {
     }
 
     json_object *scene = json_object_new_object();
-    json_object_object_add(scene, "path", json_object_new_string(sc->path));
-    json_object_object_add(scene, "title", json_object_new_string(sc->title));
+    json_object_object_add(scene, "path", sph_json_string(sc->path));
+    json_object_object_add(scene, "title", sph_json_string(sc->title));
     json_object *ovr = json_object_new_array();
     for (int k = 0; k < sim->options.noverrides; ++k)
-        json_object_array_add(ovr, json_object_new_string(sim->options.overrides[k]));
+        json_object_array_add(ovr, sph_json_string(sim->options.overrides[k]));
     json_object_object_add(scene, "overrides", ovr);
     json_object_object_add(scene, "resolved_text",
-                           json_object_new_string(sc->resolved_text ? sc->resolved_text : ""));
+                           sph_json_string(sc->resolved_text ? sc->resolved_text : ""));
     json_object_object_add(root, "scene", scene);
 
     json_object_object_add(root, "resolved", resolved_json(sim));
 
     json_object_object_add(root, "formulation",
-                           json_object_new_string(sph_formulation_name(sc->formulation)));
-    json_object_object_add(root, "rotation",
-                           json_object_new_string(sph_rotation_name(sc->rotation)));
-    json_object_object_add(root, "kernel", json_object_new_string(sph_kernel_name(sc->kernel)));
-    json_object_object_add(root, "backend", json_object_new_string(be->kind_name));
-    json_object_object_add(root, "device", json_object_new_string(be->device_name));
-    json_object_object_add(root, "backend_choice", json_object_new_string(be->choice_reason));
-    json_object_object_add(root, "precision",
-                           json_object_new_string(sph_precision_name(&sim->features)));
-    json_object_object_add(root, "build_options", json_object_new_string(be->build_options));
+                           sph_json_string(sph_formulation_name(sc->formulation)));
+    json_object_object_add(root, "rotation", sph_json_string(sph_rotation_name(sc->rotation)));
+    json_object_object_add(root, "kernel", sph_json_string(sph_kernel_name(sc->kernel)));
+    json_object_object_add(root, "backend", sph_json_string(be->kind_name));
+    json_object_object_add(root, "device", sph_json_string(be->device_name));
+    json_object_object_add(root, "backend_choice", sph_json_string(be->choice_reason));
+    json_object_object_add(root, "precision", sph_json_string(sph_precision_name(&sim->features)));
+    json_object_object_add(root, "build_options", sph_json_string(be->build_options));
     json_object *features = json_object_new_object();
     const sph_features *f = &sim->features;
     json_object_object_add(features, "dimension", json_object_new_int(f->dim));
     json_object_object_add(features, "formulation",
-                           json_object_new_string(sph_formulation_name(f->formulation)));
-    json_object_object_add(features, "rotation",
-                           json_object_new_string(sph_rotation_name(f->rotation)));
-    json_object_object_add(features, "kernel", json_object_new_string(sph_kernel_name(f->kernel)));
+                           sph_json_string(sph_formulation_name(f->formulation)));
+    json_object_object_add(features, "rotation", sph_json_string(sph_rotation_name(f->rotation)));
+    json_object_object_add(features, "kernel", sph_json_string(sph_kernel_name(f->kernel)));
     json_object_object_add(features, "material_model",
-                           json_object_new_string(f->plastic ? "j2-plastic" : "elastic"));
+                           sph_json_string(f->plastic ? "j2-plastic" : "elastic"));
     json_object_object_add(features, "clamp", json_object_new_boolean(f->has_clamp));
     json_object_object_add(features, "torque_projection",
                            json_object_new_boolean(f->torque_projection));
     json_object_object_add(features, "bodies", json_object_new_int(f->nbodies));
     json_object_object_add(features, "contact", json_object_new_boolean(f->contact));
     json_object_object_add(features, "walls", json_object_new_int(f->walls));
-    json_object_object_add(features, "precision", json_object_new_string(sph_precision_name(f)));
-    json_object_object_add(features, "stepping",
-                           json_object_new_string(sph_stepping_name(f->stepping)));
+    json_object_object_add(features, "precision", sph_json_string(sph_precision_name(f)));
+    json_object_object_add(features, "stepping", sph_json_string(sph_stepping_name(f->stepping)));
     json_object_object_add(features, "snapshots",
                            json_object_new_boolean(sim->scene.snapshot_every > 0));
     json_object_object_add(root, "features", features);
@@ -227,7 +355,7 @@ static json_object *summary_json(const sph_simulation *sim) {
         while (*p) {
             const char *nl = strchr(p, '\n');
             const size_t n = nl ? (size_t)(nl - p) : strlen(p);
-            json_object_array_add(kernels, json_object_new_string_len(p, (int)n));
+            json_object_array_add(kernels, sph_json_string_len(p, n));
             p += n + (nl ? 1 : 0);
         }
         json_object_object_add(root, "program_kernels", kernels);
@@ -238,7 +366,7 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object *bufs = json_object_new_array();
     for (int k = 0; k < be->nbuffers; ++k) {
         json_object *o = json_object_new_object();
-        json_object_object_add(o, "name", json_object_new_string(be->buffers[k].name));
+        json_object_object_add(o, "name", sph_json_string(be->buffers[k].name));
         json_object_object_add(o, "bytes", json_object_new_int64((int64_t)be->buffers[k].bytes));
         json_object_array_add(bufs, o);
     }
@@ -248,7 +376,7 @@ static json_object *summary_json(const sph_simulation *sim) {
         json_object *prof = json_object_new_array();
         for (int k = 0; k < be->nprofile; ++k) {
             json_object *o = json_object_new_object();
-            json_object_object_add(o, "phase", json_object_new_string(be->profile[k].name));
+            json_object_object_add(o, "phase", sph_json_string(be->profile[k].name));
             json_object_object_add(o, "calls", json_object_new_int64(be->profile[k].calls));
             json_object_object_add(o, "seconds", json_object_new_double(be->profile[k].seconds));
             json_object_array_add(prof, o);
@@ -263,7 +391,7 @@ static json_object *summary_json(const sph_simulation *sim) {
         const sph_relax_report *r = &sim->particles.relax[b];
         if (!r->relaxed) continue;
         json_object *o = json_object_new_object();
-        json_object_object_add(o, "body", json_object_new_string(sc->bodies[b].name));
+        json_object_object_add(o, "body", sph_json_string(sc->bodies[b].name));
         json_object_object_add(o, "particles", json_object_new_int(r->particles));
         json_object_object_add(o, "steps", json_object_new_int(r->steps));
         json_object_object_add(o, "residual_mean", num(r->mean));
@@ -271,7 +399,7 @@ static json_object *summary_json(const sph_simulation *sim) {
         json_object_object_add(o, "residual_start_mean", num(r->start_mean));
         json_object_object_add(o, "residual_lattice_mean", num(r->lattice_mean));
         json_object_object_add(o, "min_distance", num(r->min_distance));
-        json_object_object_add(o, "file", json_object_new_string(sc->bodies[b].relaxation.file));
+        json_object_object_add(o, "file", sph_json_string(sc->bodies[b].relaxation.file));
         json_object_object_add(o, "reused", json_object_new_boolean(r->reused));
         json_object_array_add(relaxed, o);
     }
@@ -280,12 +408,12 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object *fields = json_object_new_array();
     for (int k = 0; k < SPH_OUT_COUNT; ++k)
         if (sc->output_field[k])
-            json_object_array_add(
-                fields, json_object_new_string(sph_output_field_name((sph_output_field)k)));
+            json_object_array_add(fields,
+                                  sph_json_string(sph_output_field_name((sph_output_field)k)));
     json_object_object_add(root, "snapshot_fields", fields);
     if (isfinite(sim->restart_time)) {
         json_object *r = json_object_new_object();
-        json_object_object_add(r, "directory", json_object_new_string(sim->options.restart_dir));
+        json_object_object_add(r, "directory", sph_json_string(sim->options.restart_dir));
         json_object_object_add(r, "time", json_object_new_double(sim->restart_time));
         json_object_object_add(root, "restarted_from", r);
     }
@@ -306,12 +434,27 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(metrics, "max_linear_momentum_drift", num(m->max_linear_momentum_drift));
     json_object_object_add(metrics, "max_angular_momentum_error",
                            num(m->max_angular_momentum_error));
+    /* null where angular momentum is conserved, else why the error is not
+     * reported (a constraint, a wall, gravity) */
+    json_object_object_add(metrics, "angular_momentum_not_conserved",
+                           m->angular_momentum_not_conserved[0]
+                               ? json_object_new_string(m->angular_momentum_not_conserved)
+                               : NULL);
+    json_object_object_add(metrics, "initial_angular_momentum", num(m->initial_angular_momentum));
     if (sc->period_observer >= 0) {
         json_object_object_add(metrics, "first_period", num(m->first_period));
         json_object_object_add(metrics, "max_observer_displacement",
                                num(m->max_observer_displacement));
     }
     json_object_object_add(root, "metrics", metrics);
+    /* the physical scales `sphsolid compare` measures quantities that are
+     * zero in theory against (docs/output-format.md, "summary.json") */
+    json_object *scales = json_object_new_object();
+    json_object_object_add(scales, "total_mass", num(m->total_mass));
+    json_object_object_add(scales, "momentum", num(m->momentum_scale));
+    json_object_object_add(scales, "angular_momentum", num(m->angular_momentum_scale));
+    json_object_object_add(scales, "energy", num(m->energy_scale));
+    json_object_object_add(root, "scales", scales);
     return root;
 }
 
@@ -382,7 +525,21 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
                         ck.backend, ck.precision);
         }
     }
-    if (opt->out_dir) {
+    if (!st) {
+        /* the predicted work, before anything is written (work_estimate.h) */
+        const sph_work_request work = {
+            .start_time = resumed ? ck.h.time : 0.0,
+            .out_dir = opt->out_dir,
+            .overrides = opt->overrides,
+            .noverrides = opt->noverrides,
+            .checkpoint_every = opt->checkpoint_every,
+            .double_precision = sim->features.double_precision,
+            .no_limit = opt->no_work_limit,
+            .quiet = opt->quiet,
+        };
+        st = sph_work_check(&sim->scene, &sim->particles, sim->prm, &work, NULL, err);
+    }
+    if (!st && opt->out_dir) {
         st = sph_output_open(&out, opt->out_dir, &sim->scene, resumed ? &sim->series : NULL, err);
         if (!st) outp = &out;
     }
@@ -433,29 +590,15 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
     }
     free(parameters);
     if (resumed) sph_checkpoint_free(&ck);
-    /* scales for the momentum errors: the total |momentum| magnitude and
-     * sum m |x - x_c| |v| about the centre of mass */
-    const int np = sim->particles.n, dim = sim->scene.dim;
-    double scale = 0.0, angular_scale = 0.0, total_mass = 0.0, centre[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < np; ++i) {
-        total_mass += sim->particles.mass[i];
-        for (int d = 0; d < dim; ++d)
-            centre[d] += sim->particles.mass[i] * sim->particles.pos[(size_t)d * np + i];
-    }
-    for (int d = 0; d < dim && total_mass > 0.0; ++d) centre[d] /= total_mass;
-    for (int i = 0; i < np; ++i) {
-        double v2 = 0.0, r2 = 0.0;
-        for (int d = 0; d < dim; ++d) {
-            const double v = sim->particles.vel[(size_t)d * np + i];
-            const double r = sim->particles.pos[(size_t)d * np + i] - centre[d];
-            v2 += v * v;
-            r2 += r * r;
-        }
-        scale += sim->particles.mass[i] * sqrt(v2);
-        angular_scale += sim->particles.mass[i] * sqrt(r2 * v2);
-    }
-    sph_metrics_compute(&sim->series, sim->scene.period_observer, sim->scene.period_axis, scale,
-                        angular_scale, &sim->metrics);
+    /* the initial state's sums in double (the no-spin decision and the
+     * momentum scales do not depend on the run's precision) and whether the
+     * scene conserves angular momentum at all */
+    sph_initial_sums initial;
+    sph_initial_sums_compute(&sim->particles, &initial);
+    char not_conserved[256];
+    sph_angular_momentum_conserved(&sim->scene, not_conserved, sizeof not_conserved);
+    sph_metrics_compute(&sim->series, sim->scene.period_observer, sim->scene.period_axis, &initial,
+                        not_conserved, &sim->metrics);
     if (outp) {
         /* a run the instability monitor stopped keeps its results, marked
          * "unstable" in summary.json */
@@ -487,5 +630,7 @@ void sph_simulation_close(sph_simulation *sim) {
     sph_timeseries_free(&sim->series);
     sph_particles_free(&sim->particles);
     if (sim->scene_loaded) sph_scene_free(&sim->scene);
+    sph_dir_lock_release(&sim->out_lock);
+    sph_dir_lock_release(&sim->source_lock);
     memset(sim, 0, sizeof *sim);
 }

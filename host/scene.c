@@ -86,6 +86,44 @@ static bool plain_name(const char *s) {
     return true;
 }
 
+static bool name_letter(unsigned char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z');
+}
+
+bool sph_name_check(const char *name, char *why, size_t size) {
+    const unsigned char *s = (const unsigned char *)name;
+    size_t n = 0;
+    for (; s[n]; n++) {
+        const unsigned char c = s[n];
+        if (name_letter(c) || (n > 0 && ((c >= '0' && c <= '9') || c == '_' || c == '-'))) continue;
+        /* the offending byte, printable whatever it is: the message stays
+         * one line even for a name with a newline or invalid UTF-8 */
+        char shown[8];
+        if (c > ' ' && c < 0x7f)
+            snprintf(shown, sizeof shown, "'%c'", c);
+        else
+            snprintf(shown, sizeof shown, "\\x%02X", c);
+        snprintf(why, size,
+                 "%s %s: names are a letter, then letters, digits, '_' or '-' (they become "
+                 "timeseries.csv columns and --set keys)",
+                 n == 0 ? "a name cannot start with" : "a name cannot contain", shown);
+        return false;
+    }
+    if (n == 0) {
+        snprintf(why, size, "must not be empty");
+        return false;
+    }
+    if (n >= SPH_NAME_LEN) {
+        snprintf(why, size, "names are limited to %d characters", SPH_NAME_LEN - 1);
+        return false;
+    }
+    return true;
+}
+
+bool sph_observer_name_reserved(const char *name) {
+    return strcmp(name, "momentum") == 0 || strcmp(name, "angular_momentum") == 0;
+}
+
 /* The `name` member of a list element, if it is a string that no other
  * element of the list shares; path components then read `bodies.plate`
  * (which --set also accepts) rather than `bodies.[0]`. */
@@ -246,13 +284,49 @@ static sph_status get_member(loader *L, const config_setting_t *g, const char *k
     return SPH_OK;
 }
 
+/* The exact value of an integer setting, over [-2^63, 2^64): libconfig
+ * keeps 64 signed bits, and a hexadecimal 64-bit integer is read as its
+ * unsigned bits (widen_integers writes the values from 2^63 to 2^64 - 1 that
+ * way, so that a seed takes the whole unsigned range). */
+typedef struct {
+    bool negative;
+    unsigned long long magnitude;
+} wide_int;
+
+static wide_int wide_of(const config_setting_t *s) {
+    long long v = config_setting_type(s) == CONFIG_TYPE_INT64 ? config_setting_get_int64(s)
+                                                              : config_setting_get_int(s);
+    if (v < 0 && config_setting_type(s) == CONFIG_TYPE_INT64 &&
+        config_setting_get_format(s) == CONFIG_FORMAT_HEX)
+        return (wide_int){false, (unsigned long long)v};
+    /* -(v + 1) + 1: no overflow at LLONG_MIN */
+    if (v < 0) return (wide_int){true, (unsigned long long)(-(v + 1)) + 1ULL};
+    return (wide_int){false, (unsigned long long)v};
+}
+
+static double wide_double(wide_int v) {
+    return v.negative ? -(double)v.magnitude : (double)v.magnitude;
+}
+
+/* v in [lo, hi] (lo <= 0 <= hi or 0 <= lo <= hi) */
+static bool wide_in(wide_int v, long long lo, unsigned long long hi) {
+    if (v.negative) return lo < 0 && v.magnitude <= (unsigned long long)(-(lo + 1)) + 1ULL;
+    return v.magnitude <= hi && (lo <= 0 || v.magnitude >= (unsigned long long)lo);
+}
+
+/* The value as written: "-2147483649", "18446744073709551615". */
+static const char *wide_text(wide_int v, char buf[24]) {
+    snprintf(buf, 24, "%s%llu", v.negative ? "-" : "", v.magnitude);
+    return buf;
+}
+
 static sph_status as_float(loader *L, const config_setting_t *s, double *out) {
     switch (config_setting_type(s)) {
     case CONFIG_TYPE_INT:
         *out = config_setting_get_int(s);
         break;
     case CONFIG_TYPE_INT64:
-        *out = (double)config_setting_get_int64(s);
+        *out = wide_double(wide_of(s));
         break;
     case CONFIG_TYPE_FLOAT:
         *out = config_setting_get_float(s);
@@ -292,20 +366,49 @@ static sph_status get_float(loader *L, const config_setting_t *g, const char *ke
     return SPH_OK;
 }
 
-static sph_status get_int(loader *L, const config_setting_t *g, const char *key, bool required,
-                          int def, int *out, const config_setting_t **where) {
+/* An integer key, read whole (64 bits: an int and a 64-bit int alike) so
+ * that the range check sees the value written, not its low 32 bits.  Absent
+ * and not required: *present is false and *out untouched. */
+static sph_status get_wide_int(loader *L, const config_setting_t *g, const char *key, bool required,
+                               wide_int *out, bool *present, const config_setting_t **where) {
     const config_setting_t *s;
     sph_status st = get_member(L, g, key, required, &s);
     if (st) return st;
     *where = s;
-    if (!s) {
+    *present = s != NULL;
+    if (!s) return SPH_OK;
+    const int type = config_setting_type(s);
+    if (type == CONFIG_TYPE_FLOAT) {
+        /* an integer literal beyond 64 bits arrives as a number
+         * (widen_integers): say that it is too large, not that it is a decimal */
+        const double v = config_setting_get_float(s);
+        if (isfinite(v) && v == floor(v) && fabs(v) >= 0x1p63)
+            return fail_at(L, s, NULL,
+                           "expected a 64-bit integer (-9223372036854775808 to "
+                           "18446744073709551615), got %.17g",
+                           v);
+    }
+    if (type != CONFIG_TYPE_INT && type != CONFIG_TYPE_INT64)
+        return fail_at(L, s, NULL, "expected an integer, got %s", type_name(type));
+    *out = wide_of(s);
+    return SPH_OK;
+}
+
+/* An integer key in [lo, hi]; `def` when absent and not required. */
+static sph_status get_int(loader *L, const config_setting_t *g, const char *key, bool required,
+                          int def, int lo, int hi, int *out, const config_setting_t **where) {
+    wide_int v = {false, 0};
+    bool present = false;
+    sph_status st = get_wide_int(L, g, key, required, &v, &present, where);
+    if (st) return st;
+    if (!present) {
         *out = def;
         return SPH_OK;
     }
-    if (config_setting_type(s) != CONFIG_TYPE_INT)
-        return fail_at(L, s, NULL, "expected an integer, got %s",
-                       type_name(config_setting_type(s)));
-    *out = config_setting_get_int(s);
+    char text[24];
+    if (!wide_in(v, lo, (unsigned long long)hi))
+        return fail_at(L, *where, NULL, "must be in [%d, %d], got %s", lo, hi, wide_text(v, text));
+    *out = (int)wide_double(v);
     return SPH_OK;
 }
 
@@ -431,6 +534,175 @@ static sph_status get_axis(loader *L, const config_setting_t *g, const char *key
 }
 
 /* ------------------------------------------------------------------------ */
+/* integers beyond 32 bits                                                   */
+/* ------------------------------------------------------------------------ */
+
+/* libconfig 1.5 reads an integer literal without the L suffix with atoi()
+ * (4294967298 becomes 2, 2147483648 becomes -2147483648) and one with the
+ * suffix with atoll() (saturating at 2^63 - 1), silently.  So before text
+ * reaches libconfig, every integer literal outside the int range is
+ * rewritten into a form libconfig keeps exactly: a decimal with the L suffix
+ * up to 2^63 - 1 (a 64-bit integer), a hexadecimal with the suffix from 2^63
+ * to 2^64 - 1 (its bits kept; wide_of reads a hexadecimal unsigned), and
+ * beyond 64 bits a decimal number (a number key takes it, an integer key
+ * calls it out of range).  Comments and strings are copied untouched and no
+ * line break moves, so libconfig's line numbers stay those of the text.
+ * Literals in @include'd files are read by libconfig itself. */
+
+typedef struct {
+    char *buf;
+    size_t len, cap;
+} text_buf;
+
+static bool put(text_buf *t, const char *s, size_t n) {
+    if (t->len + n + 1 > t->cap) {
+        size_t cap = t->cap ? t->cap : 256;
+        while (t->len + n + 1 > cap) cap *= 2;
+        char *b = realloc(t->buf, cap);
+        if (!b) return false;
+        t->buf = b;
+        t->cap = cap;
+    }
+    memcpy(t->buf + t->len, s, n);
+    t->len += n;
+    t->buf[t->len] = '\0';
+    return true;
+}
+
+static bool is_digit(char c) {
+    return c >= '0' && c <= '9';
+}
+
+static int hex_value(char c) {
+    if (is_digit(c)) return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+/* The length of the comment or string at p, else 0 (libconfig's #, //,
+ * block comments and "strings" with backslash escapes). */
+static size_t skip_opaque(const char *p) {
+    const char *q = p;
+    if (*q == '#' || (q[0] == '/' && q[1] == '/')) {
+        while (*q && *q != '\n') q++;
+    } else if (q[0] == '/' && q[1] == '*') {
+        const char *end = strstr(q + 2, "*/");
+        q = end ? end + 2 : q + strlen(q);
+    } else if (*q == '"') {
+        for (q++; *q && *q != '"'; q++)
+            if (*q == '\\' && q[1]) q++;
+        if (*q) q++;
+    }
+    return (size_t)(q - p);
+}
+
+/* One number token at p ([-+] digits, 0x hex, a float, an L or LL suffix),
+ * rewritten into t as the comment above says; returns its length. */
+static size_t widen_number(const char *p, text_buf *t, bool *ok) {
+    const char *q = p;
+    const bool negative = *q == '-';
+    if (*q == '-' || *q == '+') q++;
+    const bool hex =
+        !negative && q == p && q[0] == '0' && (q[1] == 'x' || q[1] == 'X') && hex_value(q[2]) >= 0;
+    unsigned long long mag = 0;
+    bool overflow = false;
+    double approx = 0.0; /* the value as a double, for one beyond 64 bits */
+    const char *digits = q;
+    if (hex) {
+        for (q += 2; hex_value(*q) >= 0; q++) {
+            overflow |= mag > (ULLONG_MAX >> 4);
+            mag = (mag << 4) | (unsigned)hex_value(*q);
+            approx = approx * 16.0 + hex_value(*q);
+        }
+    } else {
+        while (is_digit(*q)) {
+            const unsigned d = (unsigned)(*q - '0');
+            overflow |= mag > (ULLONG_MAX - d) / 10;
+            mag = mag * 10 + d;
+            q++;
+        }
+        /* a float ("1.5", "2e6", ".5"): copied as it is */
+        bool is_float = *q == '.';
+        if (!is_float && (*q == 'e' || *q == 'E')) {
+            const char *e = q + 1;
+            if (*e == '+' || *e == '-') e++;
+            is_float = is_digit(*e);
+        }
+        if (is_float) {
+            if (*q == '.')
+                for (q++; is_digit(*q);) q++;
+            if (*q == 'e' || *q == 'E') {
+                const char *e = q + 1;
+                if (*e == '+' || *e == '-') e++;
+                if (is_digit(*e))
+                    for (q = e; is_digit(*q);) q++;
+            }
+            *ok = put(t, p, (size_t)(q - p));
+            return (size_t)(q - p);
+        }
+    }
+    const char *end_digits = q;
+    if (*q == 'L') q += q[1] == 'L' ? 2 : 1;
+    const size_t len = (size_t)(q - p);
+    const bool fits_int =
+        !overflow && (negative ? mag <= (unsigned long long)INT_MAX + 1ULL : mag <= INT_MAX);
+    const bool fits_int64 =
+        !overflow && (negative ? mag <= (unsigned long long)LLONG_MAX + 1ULL : mag <= LLONG_MAX);
+    char out[64];
+    if (fits_int || (fits_int64 && q != end_digits && hex) || q == digits) {
+        *ok = put(t, p, len); /* libconfig reads it exactly (or it is no number) */
+    } else if (fits_int64) {
+        snprintf(out, sizeof out, "%s%lluL", negative ? "-" : "", mag);
+        *ok = put(t, out, strlen(out));
+    } else if (!overflow && !negative) {
+        snprintf(out, sizeof out, "0x%llXL", mag);
+        *ok = put(t, out, strlen(out));
+    } else if (hex) {
+        snprintf(out, sizeof out, "%.17e", approx);
+        *ok = put(t, out, strlen(out));
+    } else {
+        /* the digits as written, made a decimal */
+        *ok = put(t, p, (size_t)(end_digits - p)) && put(t, ".0", 2);
+    }
+    return len;
+}
+
+/* `text` with its large integer literals rewritten (see above), in a new
+ * string (NULL: out of memory). */
+static char *widen_integers(const char *text) {
+    text_buf t = {NULL, 0, 0};
+    bool ok = put(&t, "", 0);
+    const char *p = text;
+    while (ok && *p) {
+        size_t n = skip_opaque(p);
+        if (n) {
+            ok = put(&t, p, n);
+        } else if ((*p >= 'A' && *p <= 'Z') || (*p >= 'a' && *p <= 'z') || *p == '*') {
+            /* a name, digits and '-' included (libconfig's [A-Za-z*][-A-Za-z0-9_*]*) */
+            const char *q = p + 1;
+            while ((*q >= 'A' && *q <= 'Z') || (*q >= 'a' && *q <= 'z') || is_digit(*q) ||
+                   *q == '_' || *q == '-' || *q == '*')
+                q++;
+            n = (size_t)(q - p);
+            ok = put(&t, p, n);
+        } else if (is_digit(*p) || *p == '.' ||
+                   ((*p == '-' || *p == '+') && (is_digit(p[1]) || p[1] == '.'))) {
+            n = widen_number(p, &t, &ok);
+        } else {
+            n = 1;
+            ok = put(&t, p, 1);
+        }
+        p += n;
+    }
+    if (!ok) {
+        free(t.buf);
+        return NULL;
+    }
+    return t.buf;
+}
+
+/* ------------------------------------------------------------------------ */
 /* overrides                                                                 */
 /* ------------------------------------------------------------------------ */
 
@@ -445,7 +717,9 @@ static bool set_scalar(config_setting_t *s, const config_setting_t *src) {
     case CONFIG_TYPE_INT:
         return config_setting_set_int(s, config_setting_get_int(src));
     case CONFIG_TYPE_INT64:
-        return config_setting_set_int64(s, config_setting_get_int64(src));
+        /* the format too: a hexadecimal 64-bit integer is read unsigned (wide_of) */
+        return config_setting_set_int64(s, config_setting_get_int64(src)) &&
+               config_setting_set_format(s, config_setting_get_format(src));
     case CONFIG_TYPE_FLOAT:
         return config_setting_set_float(s, config_setting_get_float(src));
     case CONFIG_TYPE_BOOL:
@@ -483,7 +757,8 @@ static config_setting_t *path_step(config_setting_t *cur, const char *comp) {
     if (comp[0] == '[') {
         char *end;
         long idx = strtol(comp + 1, &end, 10);
-        if (end == comp + 1 || strcmp(end, "]") != 0 || idx < 0) return NULL;
+        /* [4294967296] must not wrap to element 0 */
+        if (end == comp + 1 || strcmp(end, "]") != 0 || idx < 0 || idx > INT_MAX) return NULL;
         return config_setting_get_elem(cur, (unsigned)idx);
     }
     if (config_setting_is_group(cur)) return config_setting_get_member(cur, comp);
@@ -543,8 +818,14 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
     }
     snprintf(text, need, "v = %s;", value);
     const config_setting_t *src = NULL;
-    int parsed = config_read_string(&vcfg, text);
+    char *wide = widen_integers(text);
     free(text);
+    if (!wide) {
+        config_destroy(&vcfg);
+        return sph_fail(L->err, SPH_ERR_RUNTIME, "out of memory applying --set %s", ov);
+    }
+    int parsed = config_read_string(&vcfg, wide);
+    free(wide);
     if (parsed == CONFIG_TRUE && config_setting_length(config_root_setting(&vcfg)) == 1)
         src = config_setting_get_member(config_root_setting(&vcfg), "v");
     if (!src && parsed != CONFIG_TRUE && strchr("[({\"", value[0]) && value[0]) {
@@ -639,8 +920,7 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
             if (sib->type == CONFIG_TYPE_FLOAT &&
                 (src->type == CONFIG_TYPE_INT || src->type == CONFIG_TYPE_INT64)) {
                 tmp.type = CONFIG_TYPE_FLOAT;
-                tmp.value.fval = src->type == CONFIG_TYPE_INT ? (double)src->value.ival
-                                                              : (double)src->value.llval;
+                tmp.value.fval = wide_double(wide_of(src));
             } else if (sib->type != src->type) {
                 st = OV_FAIL("--set %s: %s: every element of this array is %s, got %s", ov, walked,
                              type_name(sib->type), type_name(src->type));
@@ -850,7 +1130,7 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
      * kernel, whose stiffest lattice mode is 2.3x Wendland's at the same h:
      * leapfrog's limit is CFL 0.47 there (tools/kernel_lattice_stiffness.py)
      * and the plate (h = 2 dp) blows up at 0.3-0.4 within 5 ms, runs to 1 s at
-     * 0.2 (README, kernels) */
+     * 0.2 (docs/method.md, kernels) */
     const double cfl_acoustic = sc->kernel == SPH_KERNEL_LAGUERRE_WENDLAND ? 0.2 : 0.4;
     if ((st =
              get_float(L, g, "cfl_advection", false, 0.2, 0, true, 1, false, &sc->cfl_advection)) ||
@@ -885,8 +1165,8 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
             return fail_at(L, m, NULL,
                            "expected a group { density; youngs_modulus; poisson_ratio; }, got %s",
                            type_name(config_setting_type(m)));
-        if (strlen(m->name) >= SPH_NAME_LEN)
-            return fail_at(L, m, NULL, "names are limited to %d characters", SPH_NAME_LEN - 1);
+        char why[256];
+        if (!sph_name_check(m->name, why, sizeof why)) return fail_at(L, m, NULL, "%s", why);
         if ((st = check_keys(L, m,
                              KEYS("density", "youngs_modulus", "poisson_ratio", "sound_speed",
                                   "yield_stress", "hardening_modulus"))) ||
@@ -1196,8 +1476,8 @@ static sph_status parse_shapes(loader *L, const config_setting_t *root) {
     /* names first, so that a shape may refer to one defined after it */
     for (int i = 0; i < n; i++) {
         const config_setting_t *s = config_setting_get_elem(g, (unsigned)i);
-        if (strlen(s->name) >= SPH_NAME_LEN)
-            return fail_at(L, s, NULL, "names are limited to %d characters", SPH_NAME_LEN - 1);
+        char why[256];
+        if (!sph_name_check(s->name, why, sizeof why)) return fail_at(L, s, NULL, "%s", why);
         snprintf(sc->shapes[i].name, sizeof sc->shapes[i].name, "%s", s->name);
     }
     sc->nshapes = L->nnamed_shapes = n;
@@ -1343,6 +1623,8 @@ static sph_status named_group_element(loader *L, const config_setting_t *g, int 
                        type_name(config_setting_type(g)));
     sph_status st;
     if ((st = check_keys(L, g, keys, nkeys)) || (st = get_name(L, g, "name", name, at))) return st;
+    char why[256];
+    if (!sph_name_check(*name, why, sizeof why)) return fail_at(L, *at, NULL, "%s", why);
     for (int k = 0; k < index; k++)
         if (strcmp(names + (size_t)k * stride, *name) == 0)
             return fail_at(L, *at, NULL, "duplicate %s name '%s' (%s.[%d] has it too)", kind, *name,
@@ -1369,21 +1651,20 @@ static sph_status parse_placement(loader *L, const config_setting_t *b, sph_body
         return fail_at(L, g, NULL,
                        "a relaxation group needs placement = \"relaxed\" in the same body (the "
                        "body is placed on the lattice)");
-    int steps = 0, seed = 0;
+    wide_int seed = {false, r->seed};
+    bool has_seed = false;
+    char text[24];
     if ((st = check_keys(L, g, KEYS("steps", "tolerance", "perturbation", "seed", "file"))) ||
-        (st = get_int(L, g, "steps", false, r->steps, &steps, &at)))
-        return st;
-    if (steps < 0 || steps > 1000000)
-        return fail_at(L, at, NULL, "must be in [0, 1000000], got %d", steps);
-    r->steps = steps;
-    if ((st = get_float(L, g, "tolerance", false, r->tolerance, 0.0, false, INFINITY, false,
+        (st = get_int(L, g, "steps", false, r->steps, 0, 1000000, &r->steps, &at)) ||
+        (st = get_float(L, g, "tolerance", false, r->tolerance, 0.0, false, INFINITY, false,
                         &r->tolerance)) ||
         (st = get_float(L, g, "perturbation", false, r->perturbation, 0.0, false, 0.5, false,
                         &r->perturbation)) ||
-        (st = get_int(L, g, "seed", false, (int)r->seed, &seed, &at)))
+        (st = get_wide_int(L, g, "seed", false, &seed, &has_seed, &at)))
         return st;
-    if (seed < 0) return fail_at(L, at, NULL, "must be >= 0, got %d", seed);
-    r->seed = seed;
+    /* any 64-bit pattern seeds splitmix64 (docs/scene-format.md) */
+    if (seed.negative) return fail_at(L, at, NULL, "must be >= 0, got %s", wide_text(seed, text));
+    r->seed = seed.magnitude;
     if ((st = get_member(L, g, "file", false, &at))) return st;
     if (!at) return SPH_OK;
     const char *file = "";
@@ -1462,6 +1743,7 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
         con->type = (sph_constraint_type)type;
         con->region = find_named_shape(L, region);
         if (con->region < 0) return unknown_shape(L, at, region);
+        where_of(L, at, con->where, sizeof con->where);
         con->axis_mask = (1 << L->scene->dim) - 1;
         if (type != SPH_CONSTRAINT_FIXED &&
             (st = parse_axes(L, c, type == SPH_CONSTRAINT_FIXED_AXES, &con->axis_mask)))
@@ -1505,6 +1787,10 @@ static sph_status parse_observers(loader *L, const config_setting_t *root) {
                                       "observers", KEYS("name", "position"), sc->observers[0].name,
                                       sizeof sc->observers[0], &name, &at)))
             return st;
+        if (sph_observer_name_reserved(name))
+            return fail_at(L, at, NULL,
+                           "'%s' is reserved: timeseries.csv has %s_x, ... columns of its own",
+                           name, name);
         snprintf(sc->observers[i].name, sizeof sc->observers[i].name, "%s", name);
         if ((st = get_vector(L, o, "position", true, sc->dim, sc->observers[i].position, &at)))
             return st;
@@ -1769,6 +2055,11 @@ static sph_status parse_monitor(loader *L, const config_setting_t *root) {
                                "upper = %g, lower = %g",
                                AXES[a], sc->monitor_domain_upper[a], sc->monitor_domain_lower[a]);
         sc->monitor_has_domain = true;
+        /* a group that --set created on the way to lower or upper has no
+         * line and no override of its own: name the override of upper */
+        const bool dom_located = override_of(dom) || config_setting_source_line(dom) > 0;
+        where_of(L, dom_located ? dom : upper_at, sc->monitor_domain_where,
+                 sizeof sc->monitor_domain_where);
     }
     if ((st = get_float(L, g, "zigzag_threshold", false, zigzag_default, 0, true, INFINITY, false,
                         &sc->monitor_zigzag)) ||
@@ -1800,9 +2091,13 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
                            sizeof sc->title - 1);
         snprintf(sc->title, sizeof sc->title, "%s", title);
     }
-    if ((st = get_int(L, root, "dimension", true, 0, &sc->dim, &at))) return st;
-    if (sc->dim != 2 && sc->dim != 3)
-        return fail_at(L, at, NULL, "must be 2 or 3, got %d", sc->dim);
+    wide_int dim = {false, 0};
+    bool present = false;
+    char text[24];
+    if ((st = get_wide_int(L, root, "dimension", true, &dim, &present, &at))) return st;
+    if (!wide_in(dim, 2, 3))
+        return fail_at(L, at, NULL, "must be 2 or 3, got %s", wide_text(dim, text));
+    sc->dim = (int)dim.magnitude;
 
     if ((st = parse_resolution(L, root)) || (st = parse_method(L, root)) ||
         (st = parse_time(L, root)) || (st = parse_materials(L, root)) ||
@@ -1843,13 +2138,38 @@ static sph_status read_scene_file(loader *L, config_t *cfg, const char *path) {
         *slash = '\0';
         config_set_include_dir(cfg, dir[0] ? dir : "/");
     }
-    int ok = config_read(cfg, fp);
+    /* read whole, for widen_integers */
+    text_buf raw = {NULL, 0, 0};
+    char chunk[4096];
+    bool mem_ok = put(&raw, "", 0);
+    size_t got;
+    while (mem_ok && (got = fread(chunk, 1, sizeof chunk, fp)) > 0) mem_ok = put(&raw, chunk, got);
     int read_errno = ferror(fp) ? errno : 0;
     fclose(fp);
+    if (read_errno || !mem_ok) {
+        free(raw.buf);
+        return sph_fail(L->err, read_errno ? SPH_ERR_INPUT : SPH_ERR_RUNTIME,
+                        "%s: cannot read scene file: %s", path,
+                        read_errno ? strerror(read_errno) : "out of memory");
+    }
+    /* libconfig reads text up to a NUL; from a file it took one for a
+     * character it does not know: keep that a syntax error */
+    const char *nul = memchr(raw.buf, '\0', raw.len);
+    if (nul) {
+        int line = 1;
+        for (const char *c = raw.buf; c < nul; c++) line += *c == '\n';
+        free(raw.buf);
+        return sph_fail(L->err, SPH_ERR_INPUT, "%s:%d: syntax error: a NUL byte", path, line);
+    }
+    char *wide = widen_integers(raw.buf);
+    free(raw.buf);
+    if (!wide) return sph_fail(L->err, SPH_ERR_RUNTIME, "%s: out of memory reading it", path);
+    int ok = config_read_string(cfg, wide);
+    free(wide);
     if (ok == CONFIG_TRUE) return SPH_OK;
-    if (config_error_type(cfg) == CONFIG_ERR_FILE_IO || read_errno)
+    if (config_error_type(cfg) == CONFIG_ERR_FILE_IO)
         return sph_fail(L->err, SPH_ERR_INPUT, "%s: cannot read scene file: %s", path,
-                        read_errno ? strerror(read_errno) : config_error_text(cfg));
+                        config_error_text(cfg));
     const char *text = config_error_text(cfg) ? config_error_text(cfg) : "syntax error";
     const char *file = config_error_file(cfg) ? config_error_file(cfg) : path;
     const char *hint = strstr(text, "mismatched element type")
@@ -1950,13 +2270,17 @@ static sph_status load(sph_scene *scene, const char *path, const char *text,
     config_t cfg;
     config_init(&cfg);
     sph_status st = SPH_OK;
+    char *wide = text ? widen_integers(text) : NULL;
     if (!text) {
         st = read_scene_file(&L, &cfg, path);
-    } else if (config_read_string(&cfg, text) != CONFIG_TRUE) {
+    } else if (!wide) {
+        st = sph_fail(err, SPH_ERR_RUNTIME, "%s: out of memory reading the scene", path);
+    } else if (config_read_string(&cfg, wide) != CONFIG_TRUE) {
         st = sph_fail(err, SPH_ERR_INPUT, "%s:%d: the stored scene does not parse: %s", path,
                       config_error_line(&cfg),
                       config_error_text(&cfg) ? config_error_text(&cfg) : "syntax error");
     }
+    free(wide);
     for (int i = 0; st == SPH_OK && i < noverrides; i++)
         st = apply_override(&L, &cfg, overrides[i]);
     if (st == SPH_OK) st = write_resolved(scene, &cfg, err);

@@ -17,6 +17,8 @@
 #include "sph_error.h"
 
 #include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
 
 #define SPH_NAME_LEN              64
 #define SPH_SCENE_MAX_BODIES      8 /* = SPH_MAX_BODIES of the device code */
@@ -122,6 +124,9 @@ typedef struct {
     int region;         /* shape index */
     int axis_mask;      /* bit a: axis a is constrained */
     double velocity[3]; /* prescribed velocity (0 unless SPH_CONSTRAINT_VELOCITY) */
+    /* "<file>:<line>: bodies.<name>.constraints.[k].region" (see sph_body.where),
+     * for a region that selects none of the body's particles (particles.c) */
+    char where[SPH_SCENE_WHERE_LEN];
 } sph_constraint;
 
 /* How a body's particles are placed (particles.c, relax.c). */
@@ -134,7 +139,7 @@ typedef struct {
     int steps;           /* at most this many relaxation steps */
     double tolerance;    /* stop once the mean residual is at most this (0: run all steps) */
     double perturbation; /* amplitude of the initial random offset per axis, in dp */
-    long long seed;      /* of the offset's pseudo-random sequence */
+    uint64_t seed;       /* of the offset's pseudo-random sequence, the full unsigned range */
     /* where the relaxed positions are saved and reused ("": nowhere),
      * resolved against the scene file's directory */
     char file[SPH_SCENE_PATH_LEN];
@@ -256,6 +261,9 @@ typedef struct {
     double monitor_domain_margin;
     bool monitor_has_domain;
     double monitor_domain_lower[3], monitor_domain_upper[3];
+    /* "<file>:<line>: monitor.domain" (see sph_body.where): the initial
+     * particles must lie inside it (particles.c) */
+    char monitor_domain_where[SPH_SCENE_WHERE_LEN];
     sph_monitor_action monitor_action;
 
     /* analysis: first oscillation period of an observer's coordinate */
@@ -271,6 +279,17 @@ sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const 
 sph_status sph_scene_load_text(sph_scene *scene, const char *origin, const char *text,
                                const char *const *overrides, int noverrides, sph_error *err);
 void sph_scene_free(sph_scene *scene);
+
+/* The rule for the names of materials, shapes, bodies, observers and walls
+ * (docs/scene-format.md, "Names"): a letter, then letters, digits, '_' or
+ * '-', at most SPH_NAME_LEN - 1 characters.  Names become timeseries.csv
+ * column names, JSON strings, HDF5 attributes and `--set` key components;
+ * under this rule none of them needs quoting or escaping.  False with the
+ * reason in `why` (one line: bytes outside printable ASCII appear as \xHH). */
+bool sph_name_check(const char *name, char *why, size_t size);
+/* Observer names whose timeseries.csv columns <name>_x, _y, _z would repeat
+ * built-in columns (momentum_x, angular_momentum_x, ...). */
+bool sph_observer_name_reserved(const char *name);
 
 /* Geometry queries on the scene's shape table. */
 bool sph_shape_contains(const sph_scene *scene, int shape, const double x[3]);

@@ -91,9 +91,18 @@ static sph_status trip(const sph_solver_args *a, sph_trip_kind kind, double t, c
                    where.field[0] ? "non-finite values (NaN or Inf) in '"
                                   : "the energies overflowed (every field is finite), fastest",
                    where.field, where.field[0] ? "'" : "");
-    else
-        sph_format(quantity, sizeof quantity, "%s %.3g %s %g", what, value,
-                   value > threshold ? ">" : "<", threshold);
+    else {
+        /* as many digits as it takes for the two to differ in print (a
+         * speed ratio of 10.0000001 read "10 > 10") */
+        int digits = 3;
+        char v[40], th[40];
+        do {
+            sph_format(v, sizeof v, "%.*g", digits, value);
+            sph_format(th, sizeof th, "%.*g", digits < 6 ? 6 : digits, threshold);
+        } while (strcmp(v, th) == 0 && ++digits <= 17);
+        sph_format(quantity, sizeof quantity, "%s %s %s %s", what, v, value > threshold ? ">" : "<",
+                   th);
+    }
     if (where.particle >= 0) {
         const double *x = where.position;
         if (sc->dim == 2)
@@ -205,6 +214,33 @@ static double geometry_shift(const sph_scene *sc, double h, double c0, double u_
     return isfinite(interval) && interval > 0.0 ? 0.5 * interval : 0.0;
 }
 
+/* The first checkpoint time after t on the grid k * every, without a loop
+ * (adding `every` until passing t loses the addition to rounding once every
+ * is below the resolution of t, and takes t / every turns before that): an
+ * interval shorter than the steps gives a checkpoint after every advection
+ * step.  Checkpoints never shorten a step, so the results do not depend on
+ * it. */
+static double next_checkpoint_after(double t, double every) {
+    if (!(every > 0.0)) return INFINITY;
+    const double next = (floor(t / every) + 1.0) * every;
+    return next > t && isfinite(next) ? next : nextafter(t, INFINITY);
+}
+
+/* Substeps per backend call inside a long advection step, so that the
+ * progress line comes within its interval whatever the steps: about a tenth
+ * of the interval at the rate of the last call, a multiple of the OpenCL
+ * device clock's batch of 64 from 64 up (those batches stay whole), at least
+ * one.  An advection step shorter than that is one call, as before. */
+#define SUBSTEP_CHUNK_FIRST 64
+#define SUBSTEP_CHUNK_MAX   (1L << 24)
+static long substep_chunk(double seconds_each, double interval) {
+    if (!(seconds_each > 0.0)) return SUBSTEP_CHUNK_MAX;
+    const double n = 0.1 * interval / seconds_each;
+    if (n >= (double)SUBSTEP_CHUNK_MAX) return SUBSTEP_CHUNK_MAX;
+    if (n < 64.0) return n < 1.0 ? 1 : (long)n;
+    return (long)n / 64 * 64;
+}
+
 /* Write a checkpoint of the state at this advection-step boundary. */
 static sph_status checkpoint(const sph_solver_args *a, double t, double max_speed2,
                              long output_index, const sph_run_stats *stats,
@@ -215,6 +251,8 @@ static sph_status checkpoint(const sph_solver_args *a, double t, double max_spee
     h.output_index = output_index;
     h.acoustic_steps = stats->acoustic_steps;
     h.advection_steps = stats->advection_steps;
+    h.checkpoint_every = a->checkpoint_every; /* a restart continues them */
+    h.checkpoint_wall = a->checkpoint_wall;
     sph_status st = SPH_OK;
     if (a->snapshots) {
         /* HDF5 is called from one thread at a time */
@@ -320,9 +358,9 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                       stats->acoustic_steps);
     double next_output = fmin((double)output_index * sc->output_interval, sc->end_time);
     const bool checkpoints = a->run_dir && (a->checkpoint_every > 0 || a->checkpoint_wall > 0);
-    double next_checkpoint = a->checkpoint_every > 0
-                                 ? (floor(t / a->checkpoint_every) + 1) * a->checkpoint_every
-                                 : INFINITY;
+    double next_checkpoint = next_checkpoint_after(t, a->checkpoint_every);
+    /* without progress lines an advection step's substeps are one call */
+    long chunk = progress.enabled ? SUBSTEP_CHUNK_FIRST : LONG_MAX;
     double last_checkpoint_wall = t0;
     bool stop = false;
     while (!st && !stop && t < sc->end_time) {
@@ -351,9 +389,11 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                     ? speed_limit
                     : INFINITY;
             clock[CLOCK_COUNT] = 0.0;
-            const long limit = a->max_acoustic_steps > 0
-                                   ? a->max_acoustic_steps - (stats->acoustic_steps - start_steps)
-                                   : LONG_MAX;
+            long limit = a->max_acoustic_steps > 0
+                             ? a->max_acoustic_steps - (stats->acoustic_steps - start_steps)
+                             : LONG_MAX;
+            if (limit > chunk) limit = chunk;
+            const double call_wall = progress.enabled ? sph_wall_seconds() : 0.0;
             st = sph_backend_advance(be, clock, limit, err);
             if (st) break;
             t = clock[CLOCK_T];
@@ -391,6 +431,15 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                 break;
             }
             if (clock[CLOCK_STEP_ENDED] != 0.0) break;
+            if (clock[CLOCK_HALTED] == CLOCK_RUNNING) {
+                /* the chunk ran out inside the step: a progress line if one
+                 * is due, and the rest of the step as the clock planned it */
+                const double now = sph_wall_seconds();
+                chunk = substep_chunk((now - call_wall) / clock[CLOCK_COUNT], progress.interval);
+                sph_progress_update(&progress, now, t, sc->end_time, stats->acoustic_steps,
+                                    stats->advection_steps, n, false);
+                continue;
+            }
             /* a speed warning that let the run go on: the rest of the step */
             clock[CLOCK_HALTED] = CLOCK_RUNNING;
             step_clock_plan(clock);
@@ -422,7 +471,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
              (a->checkpoint_wall > 0 && wall - last_checkpoint_wall >= a->checkpoint_wall))) {
             st = checkpoint(a, t, max_speed2, output_index, stats, ts, err);
             last_checkpoint_wall = sph_wall_seconds();
-            while (next_checkpoint <= t) next_checkpoint += a->checkpoint_every;
+            next_checkpoint = next_checkpoint_after(t, a->checkpoint_every);
         }
         if (!st && !stop && t < sc->end_time && !total_lagrangian) {
             be->geometry_shift = geometry_shift(sc, h, c0, u_ref, max_speed2, t, next_output);

@@ -25,6 +25,8 @@ Full disks are real where this process may mount a tmpfs (as root): a
 not, the same rows run through the fault injection SPHSOLID_TEST_DISK_FULL
 (host/hdf5_file.c), and the output says which path ran.
 """
+import importlib.util
+import json
 import os
 import re
 import resource
@@ -32,14 +34,21 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import BIN, PLATE, check, finish  # noqa: E402
+from sphtest import BIN, PLATE, SRC, check, finish  # noqa: E402
+
+# tools/plot_run.py needs matplotlib: where it is missing, that check is skipped (and said)
+HAVE_MATPLOTLIB = importlib.util.find_spec("matplotlib") is not None
 
 PLATE_TEXT = open(PLATE).read()
 FAST = ["--set", "resolution.ratio=4", "--set", "time.end=0.01"]
 SCENE = "bad.cfg"  # scenes are written into the row's directory under this name
 RESULTS = ("summary.json", "timeseries.csv", "checkpoint.h5")
+# the disk-full rows fill the disk during the run: past the estimate of the
+# output volume, which refuses a run the free space cannot hold beforehand
+NO_LIMIT = ["--no-work-limit"]
 
 
 class Row:
@@ -69,6 +78,13 @@ class Row:
 
 def ed(old, new):
     return (old, new)
+
+
+def within(seconds, row):
+    """A row whose run must end within `seconds` (default 300): what it
+    refuses ran for hours before."""
+    row.timeout = seconds
+    return row
 
 
 # ---------------------------------------------------------------- the table
@@ -453,22 +469,169 @@ ROWS = [
         ["cannot create output directory {out}: Read-only file system"], args=FAST,
         fs="read-only"),
     Row("disk full: the time series", 1,
-        ["cannot write {out}/timeseries.csv.partial: No space left on device"], args=FAST,
-        fs=("full", 0, "timeseries.csv")),
+        ["cannot write {out}/timeseries.csv.partial: No space left on device"],
+        args=FAST + NO_LIMIT, fs=("full", 0, "timeseries.csv")),
     Row("disk full: the first snapshot", 1,
         ["cannot write {out}/snapshots/snapshot_000000.hdf.partial: No space left on device"],
-        args=FAST, fs=("full", 8192, "snapshot_000000")),
+        args=FAST + NO_LIMIT, fs=("full", 8192, "snapshot_000000")),
     Row("disk full: a later snapshot (the completed one is marked .partial)", 1,
         ["cannot write {out}/snapshots/snapshot_000001.hdf.partial: No space left on device"],
-        args=FAST, fs=("full", "one-snapshot", "snapshot_000001")),
+        args=FAST + NO_LIMIT, fs=("full", "one-snapshot", "snapshot_000001")),
     Row("disk full: summary.json (timeseries.csv is marked .partial again)", 1,
         ["cannot write {out}/summary.json.partial: No space left on device"],
         args=FAST + ["--set", "output.snapshot_interval=0"], fs=("full", 4096, "summary.json")),
     # --- issue 34, runaway work: checkpoints, progress, predicted work and output volume
-    # --- issue 34, names in CSV and JSON
+    #     (refused before the run, host/work_estimate.h; the old binary ran these for
+    #     hours, hence within(); checkpoint intervals below the step:
+    #     tests/test_restart.py; progress inside a long advection step and
+    #     --no-work-limit: tests/test_output.py)
+    within(20, Row("acoustic CFL 1e-300: about 1e302 substeps", 2,
+                   ["--set time.cfl_acoustic=1e-300: time.cfl_acoustic: the run would take about "
+                    "9.2e+301 acoustic substeps of", "for 0.01 s of simulated time, beyond 1e+09 "
+                    "substeps", "or run it anyway with --no-work-limit"],
+                   args=FAST + ["--set", "time.cfl_acoustic=1e-300", "--progress-interval", "3"])),
+    within(20, Row("end time 1e6 s: 2e10 substeps of an ordinary scene", 2,
+                   ["--set time.end=1e6: time.end: the run would take about 2.3e+10 acoustic "
+                    "substeps of 4.35e-05 s"],
+                   args=FAST + ["--set", "time.end=1e6", "--set", "time.output_interval=1e4",
+                                "--set", "output.snapshot_interval=0"])),
+    within(20, Row("outputs every 1e-9 s for 1e6 s: exabytes against the free disk", 2,
+                   ["--set time.output_interval=1e-9: time.output_interval: the run would write "
+                    "about 4.84 EiB (1e+14 snapshots of about 52.8 KiB every 1e-08 s, and a row "
+                    "of timeseries.csv at each of 1e+15 output times 1e-09 s apart) to {out}, "
+                    "whose filesystem has",
+                    "write less often (time.output_interval, output.snapshot_interval)"],
+                   args=FAST + ["--set", "time.end=1e6", "--set", "time.output_interval=1e-9"])),
+    Row("snapshots beyond the free disk (SPHSOLID_TEST_FREE_BYTES = 1e6)", 2,
+        ["--set output.snapshot_interval=1e-4: output.snapshot_interval: the run would write "
+         "about 5.23 MiB (101 snapshots of about 52.8 KiB every 0.0001 s, and a row of "
+         "timeseries.csv at each of 100 output times 0.0001 s apart) to {out}, whose filesystem "
+         "has 977 KiB free"],
+        args=FAST + ["--set", "time.output_interval=1e-4", "--set",
+                     "output.snapshot_interval=1e-4"],
+        env={"SPHSOLID_TEST_FREE_BYTES": "1e6"}),
+    within(20, Row("Poisson's ratio 0.49999999999: c0 = 5.8e6 m/s", 2,
+                   ["{file}:{line}: materials.plate.poisson_ratio: density 1000, youngs_modulus "
+                    "2e+06 and poisson_ratio 0.49999999999 give the sound speed c0 = sqrt(E / "
+                    "(3 (1 - 2 nu) rho0)) = 5.774e+06 m/s", "beyond 1e+05 m/s, faster than sound "
+                    "in any solid", "about 2.33e+07 acoustic substeps"],
+                   [ed("poisson_ratio = 0.3975", "poisson_ratio = 0.49999999999")],
+                   marker="poisson_ratio", args=FAST)),
+    within(20, Row("Young's modulus 1e300: c0 = 4e148 m/s", 2,
+                   ["{file}:{line}: materials.plate.youngs_modulus: density 1000, youngs_modulus "
+                    "1e+300 and poisson_ratio 0.3975 give the sound speed", "= 4.032e+148 m/s",
+                    "about 1.63e+149 acoustic substeps"],
+                   [ed("youngs_modulus = 2.0e6", "youngs_modulus = 1e300")],
+                   marker="youngs_modulus", args=FAST)),
+    within(20, Row("density 1e-300: c0 = 2e153 m/s", 2,
+                   ["--set materials.plate.density=1e-300: materials.plate.density: density "
+                    "1e-300,", "= 1.803e+153 m/s", "acoustic substeps"],
+                   args=FAST + ["--set", "materials.plate.density=1e-300"])),
+    # --- issue 34, names in CSV and JSON: names are a letter, then letters,
+    #     digits, '_' or '-' (docs/scene-format.md, "Names"); free text
+    #     (title, scene path, overrides) of any bytes: free_text_bytes_run
+    Row("observer name with a comma (a timeseries.csv column)", 2,
+        ["{file}:{line}: observers.[0].name: a name cannot contain ','"],
+        [ed('name = "tip"', 'name = "ti,p"'), ed('observer = "tip"', 'observer = "ti,p"')],
+        marker='name = "ti,p"'),
+    Row("observer name with a newline", 2,
+        ["{file}:{line}: observers.[0].name: a name cannot contain \\x0A"],
+        [ed('name = "tip"', 'name = "ti\\np"'), ed('observer = "tip"', 'observer = "ti\\np"')],
+        marker='name = "ti'),
+    Row("observer name with a quote", 2,
+        ["{file}:{line}: observers.[0].name: a name cannot contain '\"'"],
+        [ed('name = "tip"', 'name = "ti\\"p"'), ed('observer = "tip"', 'observer = "ti\\"p"')],
+        marker='name = "ti'),
+    Row("observer name whose columns repeat momentum_x, momentum_y", 2,
+        ["{file}:{line}: observers.momentum.name: 'momentum' is reserved"],
+        [ed('name = "tip"', 'name = "momentum"'), ed('observer = "tip"', 'observer = "momentum"')],
+        marker='name = "momentum"'),
+    Row("observer name with a byte that is not UTF-8", 2,
+        ["{file}:{line}: observers.[0].name: a name cannot contain \\xFF"],
+        [ed('name = "tip"', 'name = "ti\\xffp"'), ed('observer = "tip"', 'observer = "ti\\xffp"')],
+        marker='name = "ti'),
+    Row("body name with a byte that is not UTF-8", 2,
+        ["{file}:{line}: bodies.[0].name: a name cannot contain \\xC3"],
+        [ed('name = "plate"', 'name = "pl\\xc3\\x28te"')], marker='name = "pl'),
+    Row("body name with a space", 2,
+        ["{file}:{line}: bodies.[0].name: a name cannot contain \\x20"],
+        [ed('name = "plate"', 'name = "the plate"')], marker='name = "the plate"'),
+    Row("body name starting with a digit", 2,
+        ["{file}:{line}: bodies.1plate.name: a name cannot start with '1'"],
+        [ed('name = "plate"', 'name = "1plate"')], marker='name = "1plate"'),
     # --- issue 34, scene values: empty constraint regions, 64-bit integers, monitor domain,
     #     absurd materials
+    Row("a constraint region that holds no particle", 2,
+        ["{file}:{line}: bodies.plate.constraints.[0].region: region 'clamp' (within (1, 1) to "
+         "(2, 2)) holds none of the 352 particles of body 'plate'",
+         "so the constraint would do nothing"],
+        [ed('clamp = { type = "difference"; parts = ["base", "beam"]; };',
+            'clamp = { type = "box"; lower = [1.0, 1.0]; upper = [2.0, 2.0]; };')],
+        marker='region = "clamp"', args=FAST),
+    Row("a constraint region that holds no particle, relaxed placement", 2,
+        ["{file}:{line}: bodies.plate.constraints.[0].region: region 'clamp'",
+         "holds none of the 352 particles of body 'plate'"],
+        [ed('clamp = { type = "difference"; parts = ["base", "beam"]; };',
+            'clamp = { type = "box"; lower = [1.0, 1.0]; upper = [2.0, 2.0]; };'),
+         ed('material = "plate";',
+            'material = "plate"; placement = "relaxed"; relaxation = { steps = 20; };')],
+        marker='region = "clamp"', args=FAST),
+    Row("a driven region that holds no particle", 2,
+        ["{file}:{line}: bodies.plate.constraints.[1].region: region 'grip' (within (0.3, -0.01) "
+         "to (0.4, 0.01)) holds none of the 352 particles of body 'plate'"],
+        [ed("  clamp = {", '  grip = { type = "box"; lower = [0.3, -0.01]; upper = [0.4, 0.01]; };'
+            "\n  clamp = {"),
+         ed('constraints = ( { type = "fixed"; region = "clamp"; } );',
+            'constraints = ( { type = "fixed"; region = "clamp"; },\n'
+            '      { type = "velocity"; region = "grip"; velocity = [0.0, 1.0]; } );')],
+        marker='region = "grip"', args=FAST),
+    Row("a constraint whose particles all take an earlier one", 2,
+        ["{file}:{line}: bodies.plate.constraints.[1].region: every one of the 144 particles of "
+         "body 'plate' in region 'clamp' takes an earlier constraint",
+         "constraint [0], region 'clamp'"],
+        [ed('constraints = ( { type = "fixed"; region = "clamp"; } );',
+            'constraints = ( { type = "fixed"; region = "clamp"; },\n'
+            '      { type = "fixed_axes"; region = "clamp"; axes = ["y"]; } );')],
+        marker='type = "fixed_axes"', args=FAST),
+    Row("an integer beyond 32 bits: dimension", 2,
+        ["{file}:{line}: dimension: must be 2 or 3, got 4294967298"],
+        [ed("dimension = 2;", "dimension = 4294967298;")], marker="dimension =", args=FAST),
+    Row("--set: an integer beyond 32 bits", 2,
+        ["--set dimension=4294967298: dimension: must be 2 or 3, got 4294967298"],
+        argv=["run", PLATE, "--backend", "cpu", "--quiet", "--out", "{dir}/out"] + FAST +
+        ["--set", "dimension=4294967298"]),
+    Row("an integer beyond 32 bits: relaxation steps", 2,
+        ["{file}:{line}: bodies.plate.relaxation.steps: must be in [0, 1000000], got 4294967297"],
+        [ed('material = "plate";', 'material = "plate"; placement = "relaxed";\n'
+            '    relaxation = { steps = 4294967297; };')], marker="steps = 4294967297", args=FAST),
+    Row("an integer below -2^31: relaxation seed", 2,
+        ["{file}:{line}: bodies.plate.relaxation.seed: must be >= 0, got -2147483649"],
+        [ed('material = "plate";', 'material = "plate"; placement = "relaxed";\n'
+            '    relaxation = { steps = 20; seed = -2147483649; };')], marker="seed =", args=FAST),
+    Row("an integer beyond 64 bits: relaxation seed", 2,
+        ["{file}:{line}: bodies.plate.relaxation.seed: expected a 64-bit integer "
+         "(-9223372036854775808 to 18446744073709551615), got 1.8446744073709552e+19"],
+        [ed('material = "plate";', 'material = "plate"; placement = "relaxed";\n'
+            '    relaxation = { steps = 20; seed = 18446744073709551616; };')],
+        marker="seed =", args=FAST),
+    Row("an integer beyond 32 bits where a number is expected", 2,
+        ["{file}:{line}: materials.plate.poisson_ratio: must be in [0, 0.5), got 4.29497e+09"],
+        [ed("poisson_ratio = 0.3975;", "poisson_ratio = 4294967296;")], marker="poisson_ratio",
+        args=FAST),
+    Row("--set: a list index beyond 32 bits", 2,
+        ["--set bodies.[4294967296].material=plate: bodies.[4294967296]: no such setting"],
+        argv=["run", PLATE, "--backend", "cpu", "--quiet", "--out", "{dir}/out"] + FAST +
+        ["--set", "bodies.[4294967296].material=plate"]),
+    Row("monitor.domain that does not contain the body", 2,
+        ["{file}:{line}: monitor.domain: 80 of the 352 particles of body 'plate' ({file}:{line_b}: "
+         "bodies.plate) start outside the domain (-0.1, -0.1) to (0.1, 0.1)",
+         "the body's particles span (-0.0775, -0.0275) to (0.1975, 0.0275)"],
+        [ed("analysis = {", "monitor = {\n  domain = { lower = [-0.1, -0.1]; upper = [0.1, 0.1]; };"
+            "\n};\nanalysis = {")],
+        marker="domain = {", marker_b='name = "plate";', offset_b=-1, args=FAST),
     # --- issue 34, restart and the output directory
+    #     (two runs into one --out: busy_output_directory below; an end before
+    #     the checkpoint, checkpoints after a restart: tests/test_restart.py)
 ]
 
 
@@ -592,8 +755,15 @@ def run_row(k, row, tmp, paths_used):
             resource.setrlimit(resource.RLIMIT_DATA, (row.data_limit, row.data_limit))
 
     try:
-        p = subprocess.run([BIN] + argv, cwd=d, env=env, capture_output=True, text=True,
-                           timeout=300, preexec_fn=limit if row.data_limit else None)
+        # errors="replace": a message may quote bytes of the scene that are not UTF-8
+        seconds = getattr(row, "timeout", 300)
+        try:
+            p = subprocess.run([BIN] + argv, cwd=d, env=env, capture_output=True, text=True,
+                               errors="replace", timeout=seconds,
+                               preexec_fn=limit if row.data_limit else None)
+        except subprocess.TimeoutExpired:
+            check(False, "%s: still running after %d s" % (row.what, seconds))
+            return
         err = p.stderr.strip()
         what = "%s: %s" % (row.what, err or "(no message)")
         fmt = {"file": SCENE, "out": out, "dir": d}
@@ -650,6 +820,66 @@ def touching_bodies_run(tmp):
     check(os.path.exists(os.path.join(d, "out", "summary.json")), "touching bodies: summary")
 
 
+def strict_utf8_json(path):
+    """The file's JSON, or None when it is not valid UTF-8 JSON (the check
+    counts that as a failure, so an old binary fails instead of crashing)."""
+    try:
+        with open(path, "rb") as f:
+            return json.loads(f.read().decode("utf-8", "strict"))
+    except (OSError, ValueError) as e:  # UnicodeDecodeError is a ValueError
+        print("  %s: %s" % (path, e))
+        return None
+
+
+def free_text_bytes_run(tmp):
+    """Issue 34, item 5: bytes that are not UTF-8 (a stray byte, a surrogate,
+    a cut sequence, an overlong '/') in the title, the scene path and an
+    override: the run completes, summary.json is valid UTF-8 JSON with each
+    ill-formed subsequence as U+FFFD (what bytes.decode("utf-8", "replace")
+    gives, docs/output-format.md), and `sphsolid compare` reads the run."""
+    d = os.path.join(tmp, "free-text")
+    os.makedirs(d)
+    title = b"bad \xff\xfe title, \xed\xa0\x80 surrogate, \xe2\x82 cut, \xc0\xaf, \xc3\xa9 fine"
+    text = PLATE_TEXT.encode().replace(b'title = "2D oscillating plate";',
+                                       b'title = "' + title + b'";')
+    scene = b"scene \xff\xc3.cfg"
+    with open(os.path.join(os.fsencode(d), scene), "wb") as f:
+        f.write(text)
+    override = b'title="over \xf4\x90\x80\x80 ride"'  # beyond U+10FFFF
+    runs = [("title", [], title), ("override", [b"--set", override], override[7:-1])]
+    for name, extra, expected_title in runs:
+        argv = [os.fsencode(BIN), b"run", scene, b"--backend", b"cpu", b"--quiet", b"--out",
+                name.encode()] + [a.encode() for a in FAST] + extra
+        p = subprocess.run(argv, cwd=d, capture_output=True, timeout=300)
+        check(p.returncode == 0, "bytes that are not UTF-8 in the %s: exit %d: %s" %
+              (name, p.returncode, p.stderr.decode(errors="replace")))
+        summary = strict_utf8_json(os.path.join(d, name, "summary.json"))
+        check(summary is not None, "%s: summary.json is valid UTF-8 JSON" % name)
+        if summary is None:
+            continue
+        sc = summary["scene"]
+        check(sc["title"] == expected_title.decode("utf-8", "replace"),
+              "%s: the title, ill-formed bytes as U+FFFD: %r" % (name, sc["title"]))
+        check(sc["path"] == scene.decode("utf-8", "replace"),
+              "%s: the scene path, ill-formed bytes as U+FFFD: %r" % (name, sc["path"]))
+        overrides = FAST[1::2] + [x.decode("utf-8", "replace") for x in extra[1::2]]
+        check(sc["overrides"] == overrides, "%s: the overrides: %r" % (name, sc["overrides"]))
+        p = subprocess.run([BIN, "compare", name, name], cwd=d, capture_output=True, text=True,
+                           timeout=300)
+        check(p.returncode == 0, "%s: sphsolid compare reads the run: %s" % (name, p.stderr))
+        if name == "title" and not HAVE_MATPLOTLIB:
+            print("  (tools/plot_run.py on that run skipped: no matplotlib)")
+        elif name == "title":
+            p = subprocess.run([sys.executable, os.path.join(SRC, "tools", "plot_run.py"), name,
+                                "--snapshots", "0"], cwd=d, capture_output=True, text=True,
+                               timeout=300)
+            check(p.returncode == 0 and os.path.exists(os.path.join(d, name, "plots",
+                                                                    "timeseries.png")),
+                  "%s: tools/plot_run.py reads the run: %s" % (name, p.stderr[-300:]))
+        print("  %-66s %d  title %r" % ("bytes that are not UTF-8 in the " + name, 0,
+                                        sc["title"][:40]))
+
+
 def restart_after_disk_full(tmp):
     """A run that a full disk stops keeps its checkpoint (a restart point,
     not a result); its snapshots are marked .partial, and a restart, with
@@ -678,6 +908,79 @@ def restart_after_disk_full(tmp):
                        text=True, timeout=300)
     check(p.returncode == 0 and len(os.listdir(os.path.join(a, "snapshots"))) == 4,
           "restart after a full disk equals the uninterrupted run: %s" % p.stdout[-300:])
+
+
+def wait_for(path, proc, limit=120):
+    t0 = time.time()
+    while not os.path.exists(path) and proc.poll() is None and time.time() - t0 < limit:
+        time.sleep(0.01)
+    return os.path.exists(path) and proc.poll() is None
+
+
+def busy_output_directory(tmp):
+    """Two processes in one output directory: while a run holds it (here
+    inside its checkpoint write, SPHSOLID_TEST_CHECKPOINT_DELAY), a second
+    run, a restart in place and `relax --out` into it are refused (exit 1,
+    one sentence naming the directory and the holder's pid) and change
+    nothing: the first run ends with the results it would have had alone.
+    A run killed with SIGKILL leaves no lock (the kernel drops it) and no
+    .partial checkpoint after the next run."""
+    d = os.path.join(tmp, "busy")
+    os.makedirs(d)
+    plain = ["--backend", "cpu", "--quiet"] + FAST
+    args = plain + ["--checkpoint-every", "0.01"]
+    p = subprocess.run([BIN, "run", PLATE, "--out", "alone"] + args, cwd=d, capture_output=True,
+                       text=True, timeout=300)
+    check(p.returncode == 0, "busy directory: the reference run: %s" % p.stderr)
+    out = os.path.join(d, "out")
+    env = dict(os.environ, SPHSOLID_TEST_CHECKPOINT_DELAY="4")
+    first = subprocess.Popen([BIN, "run", PLATE, "--out", out] + args, cwd=d, env=env,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        held = wait_for(os.path.join(out, "checkpoint", "checkpoint.h5.partial"), first)
+        check(held, "busy directory: the first run is inside its checkpoint write")
+        busy = "is in use by another sphsolid process (pid %d)" % first.pid
+        for what, argv, fragment in [
+            ("a second run", ["run", PLATE, "--out", out] + args, "output directory " + out),
+            ("a restart in place", ["run", "--restart", out, "--backend", "cpu", "--quiet"],
+             "output directory " + out),
+            ("relax --out", ["relax", PLATE, "--out", os.path.join(out, "plate.h5"), "--set",
+                             "bodies.plate.placement=relaxed", "--set",
+                             "bodies.plate.relaxation.steps=2"] + FAST[:2],
+             "--out %s: directory %s" % (os.path.join(out, "plate.h5"), out)),
+        ]:
+            q = subprocess.run([BIN] + argv, cwd=d, capture_output=True, text=True, timeout=300)
+            err = q.stderr.strip()
+            check(held and q.returncode == 1 and fragment + " " + busy in err and
+                  len(err.splitlines()) == 1,
+                  "busy directory: %s: exit 1 naming the directory and pid %d, got %d: %s"
+                  % (what, first.pid, q.returncode, err))
+            print("  %-66s %d  %s" % (("busy --out: " + what)[:66], q.returncode, err[:110]))
+    finally:
+        first.wait(timeout=300)
+    check(first.returncode == 0, "busy directory: the first run: %s" % first.stderr.read())
+    first.stderr.close()
+    def content(path):
+        return open(path, "rb").read() if os.path.exists(path) else None
+
+    same = all(content(os.path.join(out, f)) is not None and
+               content(os.path.join(out, f)) == content(os.path.join(d, "alone", f))
+               for f in ("timeseries.csv", "snapshots.hdf.series", "snapshots/snapshot_000001.hdf"))
+    check(same and not os.path.exists(os.path.join(out, "plate.h5")),
+          "busy directory: the first run's results are those of a run alone")
+    # SIGKILL inside a checkpoint write: the next run gets the directory
+    killed = subprocess.Popen([BIN, "run", PLATE, "--out", out] + args, cwd=d,
+                              env=dict(os.environ, SPHSOLID_TEST_CHECKPOINT_DELAY="120"),
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    wait_for(os.path.join(out, "checkpoint", "checkpoint.h5.partial"), killed)
+    killed.kill()
+    killed.wait()
+    p = subprocess.run([BIN, "run", PLATE, "--out", out] + plain, cwd=d, capture_output=True,
+                       text=True, timeout=300)
+    check(p.returncode == 0 and not os.path.exists(
+        os.path.join(out, "checkpoint", "checkpoint.h5.partial")),
+        "busy directory: after a killed run, a run without checkpoints gets the directory and "
+        "leaves no checkpoint.h5.partial: exit %d: %s" % (p.returncode, p.stderr.strip()))
 
 
 def opencl_memory_row():
@@ -712,7 +1015,9 @@ try:
     for k, row in enumerate(rows):
         run_row(k, row, tmp, paths_used)
     touching_bodies_run(tmp)
+    free_text_bytes_run(tmp)
     restart_after_disk_full(tmp)
+    busy_output_directory(tmp)
     print("disk-full rows ran on: %s" % (", ".join(sorted(paths_used)) or "none"))
 finally:
     for d, _, _ in os.walk(tmp, topdown=False):

@@ -4,9 +4,17 @@ tolerance, 3 for a difference beyond it (the report names the field, particle,
 component and time), 2 for bad flags and missing run directories, 1 for an
 unreadable snapshot.  The run directories are synthetic, written with h5py
 exactly as docs/output-format.md describes, so the test does not depend on the
-solver or the snapshot writer."""
+solver or the snapshot writer.
+
+Issue #34: quantities zero in theory (the linear momentum of a spinning plate) are
+measured against the physical scale of summary.json "scales", so the native and the
+OpenCL spinning plate (pocl, when present) agree at the default tolerance while a 1e-6
+perturbation still fails; an incomplete run (a killed run: no summary.json, only
+timeseries.csv.partial) fails the comparison unless --common-prefix asks for the part
+both runs have."""
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -16,7 +24,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import BIN, check, finish  # noqa: E402
+from sphtest import BIN, SRC, check, finish  # noqa: E402
 
 
 def compare(*args):
@@ -68,11 +76,14 @@ def copy_data(data):
 
 
 def write_run(path, data, real=np.float64, columns=CSV_COLUMNS, snapshots_on=True,
-              timeseries_on=True):
+              timeseries_on=True, summary=None):
     """A run directory as in docs/output-format.md: timeseries.csv,
-    snapshots.hdf.series and snapshots/snapshot_NNNNNN.hdf."""
+    snapshots.hdf.series, snapshots/snapshot_NNNNNN.hdf and summary.json (the marker of
+    a finished run: {"status": "completed"} unless `summary` says otherwise)."""
     snapshots, rows = data
     os.makedirs(path)
+    with open(os.path.join(path, "summary.json"), "w") as f:
+        json.dump(summary if summary is not None else {"status": "completed"}, f)
     if timeseries_on:
         with open(os.path.join(path, "timeseries.csv"), "w") as f:
             f.write(",".join(columns) + "\n")
@@ -252,6 +263,155 @@ try:
         code, out, err = compare(*args)
         check(code == 2, f"{args}: exit status {code}, expected 2 ({err.strip()})")
         check(needle in err, f"{args}: message names {needle}: {err.strip()}")
+
+    # --- issue #34, 9: quantities zero in theory against the physical scale ----------------
+    # a spinning plate's linear momentum is round-off, |p| ~ 1e-11, different in each run,
+    # against sum m |v| ~ 2e4: within the default rtol of that scale, not of its own size
+    rng = np.random.default_rng(7)
+    spin_scales = {"total_mass": 1100.0, "momentum": 2.0e4, "angular_momentum": 9.0e3,
+                   "energy": 2.0e5}
+    p_cols = [CSV_COLUMNS.index("momentum_x"), CSV_COLUMNS.index("momentum_y")]
+
+    def spin_data():
+        data = copy_data(base)
+        data[1][:, p_cols] = rng.uniform(-2e-11, 2e-11, (data[1].shape[0], 2))
+        return data
+
+    spin_a = write_run(os.path.join(tmp, "spin_a"), spin_data(),
+                       summary={"status": "completed", "scales": spin_scales})
+    spin_b_data = spin_data()
+    spin_b = write_run(os.path.join(tmp, "spin_b"), spin_b_data,
+                       summary={"status": "completed", "scales": spin_scales})
+    code, out, err = compare(spin_a, spin_b)
+    check(code == 0 and "compare: PASS" in out,
+          f"momentum round-off against summary.json scales: exit {code}\n{out}{err}")
+    check("momentum          2.000000e+04  for momentum_*" in out,
+          f"the report states the momentum scale it used:\n{out}")
+    row = table_row(out, "momentum_x")
+    check(row is not None and row[1] < 1e-14,
+          f"momentum_x relative to 2e4, not to its own 2e-11: {row}")
+    # without the scales (a directory of another tool) each column is its own scale: fails
+    spin_c = write_run(os.path.join(tmp, "spin_c"), copy_data(spin_b_data))
+    code, out, err = compare(spin_a, spin_c)
+    check(code == 0, f"the scale of one run is enough (same scene): exit {code}\n{out}")
+    spin_d = write_run(os.path.join(tmp, "spin_d"), spin_data())
+    code, out, err = compare(spin_c, spin_d)
+    check(code == 3 and "neither run's summary.json states" in out,
+          f"no scales in either run: relative to the column, fails: exit {code}\n{out}")
+    # a real difference of 1e-6 of the scale still fails, naming the column
+    data = copy_data(spin_b_data)
+    data[1][5, p_cols[0]] += 1e-6 * spin_scales["momentum"]
+    spin_e = write_run(os.path.join(tmp, "spin_e"), data,
+                       summary={"status": "completed", "scales": spin_scales})
+    code, out, err = compare(spin_a, spin_e)
+    final = out.strip().splitlines()[-1] if out.strip() else ""
+    check(code == 3 and final.startswith("compare: FAIL: momentum_x differs by"),
+          f"momentum off by 1e-6 of sum m|v|: exit {code}: {final}")
+
+    # the native and the OpenCL spinning plate (pocl here, when it is installed)
+    devices = subprocess.run([BIN, "devices"], capture_output=True, text=True, timeout=120)
+    if "OpenCL device 0" in devices.stdout:
+        scene = os.path.join(SRC, "cases", "spinning_plate_2d", "scene.cfg")
+        plates = {}
+        for backend in ("cpu", "opencl"):
+            plates[backend] = os.path.join(tmp, f"plate_{backend}")
+            p = subprocess.run([BIN, "run", scene, "--backend", backend, "--quiet", "--out",
+                                plates[backend], "--set", "resolution.dp=0.1", "--set",
+                                "time.end=0.05", "--set", "output.snapshot_interval=0.05"],
+                               capture_output=True, text=True, timeout=600)
+            check(p.returncode == 0, f"spinning plate on {backend}: {p.stderr.strip()}")
+        code, out, err = compare(plates["cpu"], plates["opencl"])
+        check(code == 0 and "compare: PASS" in out,
+              f"native vs OpenCL spinning plate, default tolerance: exit {code}\n{out}{err}")
+        check(re.search(r"momentum +[0-9.e+]+ +for momentum_\*", out) is not None,
+              f"native vs OpenCL: the momentum scale is stated:\n{out}")
+        # 1e-6 of the speeds in one snapshot velocity, and of the kinetic energy: both fail
+        bad = os.path.join(tmp, "plate_bad_velocity")
+        shutil.copytree(plates["opencl"], bad)
+        with h5py.File(os.path.join(bad, "snapshots", "snapshot_000001.hdf"), "r+") as f:
+            v = f["VTKHDF/PointData/velocity"]
+            row = v[7]
+            row[0] += 1e-6 * float(np.max(np.abs(v[()])))
+            v[7] = row
+        code, out, err = compare(plates["cpu"], bad)
+        check(code == 3 and "FAIL: velocity" in out and "particle 7," in out,
+              f"native vs OpenCL, velocity +1e-6: exit {code}\n{out}")
+        bad = os.path.join(tmp, "plate_bad_energy")
+        shutil.copytree(plates["opencl"], bad)
+        ts = os.path.join(bad, "timeseries.csv")
+        lines = open(ts).read().splitlines()
+        cells = lines[3].split(",")
+        cells[1] = repr(float(cells[1]) * (1 + 1e-6))
+        lines[3] = ",".join(cells)
+        open(ts, "w").write("\n".join(lines) + "\n")
+        code, out, err = compare(plates["cpu"], bad)
+        check(code == 3 and "FAIL: kinetic_energy" in out,
+              f"native vs OpenCL, kinetic energy x (1 + 1e-6): exit {code}\n{out}")
+    else:
+        print("test_compare: no OpenCL device: the native vs OpenCL spinning plate is skipped")
+
+    # --- issue #34, 10: an incomplete run fails unless --common-prefix ---------------------
+    # a killed run: no summary.json, timeseries.csv.partial ending in a row cut short (which
+    # still parses: the last number lost digits), the snapshots written before the kill
+    killed = write_run(os.path.join(tmp, "killed"), copy_data(base))
+    os.remove(os.path.join(killed, "summary.json"))
+    os.remove(os.path.join(killed, "timeseries.csv"))
+    with open(os.path.join(killed, "timeseries.csv.partial"), "w") as f:
+        f.write(",".join(CSV_COLUMNS) + "\n")
+        for r in base[1][:11]:
+            f.write(",".join(repr(float(v)) for v in r) + "\n")
+        f.write(",".join(repr(float(v)) for v in base[1][11])[:-4])
+    os.remove(os.path.join(killed, "snapshots", "snapshot_000002.hdf"))
+    with open(os.path.join(killed, "snapshots.hdf.series"), "w") as f:
+        json.dump({"file-series-version": "1.0", "files": [
+            {"name": f"snapshots/snapshot_{k:06d}.hdf", "time": t}
+            for k, t in enumerate(SNAPSHOT_TIMES[:2])]}, f)
+    for a, b, label in [(run_a, killed, "B"), (killed, run_a, "A")]:
+        code, out, err = compare(a, b)
+        final = out.strip().splitlines()[-1] if out.strip() else ""
+        check(code == 3, f"killed run {label}: exit {code}, expected 3 ({err.strip()})\n{out}")
+        check(final.startswith(f"compare: FAIL: run {label} ({killed}) is incomplete: no "
+                               "summary.json and only timeseries.csv.partial"),
+              f"killed run {label}: the last line names the incomplete run: {final}")
+        check("--common-prefix" in out, f"killed run {label}: the report names the flag")
+    code, out, err = compare(run_a, killed, "--common-prefix")
+    check(code == 0 and "compare: PASS" in out and
+          "time series (timeseries.csv): 11 rows compared" in out and
+          "snapshots: 2 pairs compared" in out,
+          f"killed run, --common-prefix: the 11 whole rows and 2 snapshots: {code}\n{out}{err}")
+    # the common prefix still has to agree
+    data = copy_data(base)
+    data[0][1][2]["velocity"][17, 1] *= 1.0 + 1e-6
+    killed_bad = write_run(os.path.join(tmp, "killed_bad"), data)
+    os.remove(os.path.join(killed_bad, "summary.json"))
+    code, out, err = compare(run_a, killed_bad, "--common-prefix")
+    check(code == 3 and "FAIL: velocity" in out,
+          f"killed run, --common-prefix, velocity 1e-6: {code}\n{out}")
+    # stopped by the instability monitor: a finished run with results up to the stop, noted;
+    # one that stopped earlier than the other fails on its row count, not on its status
+    unstable = write_run(os.path.join(tmp, "unstable"), copy_data(base),
+                         summary={"status": "unstable", "instability": {"time": 0.2}})
+    code, out, err = compare(run_a, unstable)
+    check(code == 0 and 'note: run B (' + unstable + '): summary.json status "unstable": '
+          'stopped by the instability monitor at t = 0.2 s' in out,
+          f"unstable run, same rows: exit {code}\n{out}")
+    data = copy_data(base)
+    unstable = write_run(os.path.join(tmp, "unstable_early"), (data[0][:2], data[1][:11]),
+                         summary={"status": "unstable", "instability": {"time": 0.1}})
+    code, out, err = compare(run_a, unstable)
+    check(code == 3 and "run A has 21 rows, run B has 11" in out,
+          f"unstable run stopped earlier: exit {code}\n{out}")
+    code, out, err = compare(run_a, unstable, "--common-prefix")
+    check(code == 0, f"unstable run stopped earlier, --common-prefix: exit {code}\n{out}")
+    # a status this compare does not know is no finished run
+    odd = write_run(os.path.join(tmp, "odd_status"), copy_data(base),
+                    summary={"status": "running"})
+    code, out, err = compare(run_a, odd)
+    check(code == 3 and 'is incomplete: summary.json status "running"' in out,
+          f"unknown status: exit {code}\n{out}")
+    # complete runs of different lengths: --common-prefix compares the shorter's rows
+    code, out, err = compare(run_a, os.path.join(tmp, "short"), "--common-prefix")
+    check(code == 0 and "19 rows compared" in out, f"row counts, --common-prefix: {code}\n{out}")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 

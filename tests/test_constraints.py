@@ -11,7 +11,7 @@
    At t = 0.5 H / c_L the plateau strain behind the front (0.75 < y < 0.93 m), from the
    displacement gradient and from the density, must be v / c_L within 5 %.  Measured at
    dp = 0.04, 0.02, 0.01: displacement +3.62, +4.27, +3.62 %, density +1.98, +2.01,
-   +1.23 % -- a softness that does not shrink with resolution and we have not explained (README,
+   +1.23 % -- a softness that does not shrink with resolution and we have not explained (docs/method.md,
    "Known deviations"); SPH-ENOG-A reads -17 %, its Laplacian shear force not being the
    divergence of that stress.  The column 4 dp ahead of the front must be at rest, and
    the constraints must hold exactly: the bottom grip at rest to the bit, the top grip

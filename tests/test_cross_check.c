@@ -13,7 +13,7 @@
  *  - single precision: 1e-5 relative.  Rounding differences of ~6e-8 per
  *    operation (and the last bit of float sqrt/sin/cos) grow through the same
  *    dynamics; measured on pocl 3.1: 7.5e-8 in position and 1.2e-6 in velocity
- *    for the plate after 200 steps (README, "Cross-checking").
+ *    for the plate after 200 steps (docs/backends.md, "Cross-checking").
  * Measured in double: 1.4e-16 / 9.4e-16 (plate), 1.9e-16 / 7.4e-16
  * (spinning plate), 0 / 0 with per-particle rotation (no reduction involved).
  */

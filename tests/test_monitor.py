@@ -53,9 +53,9 @@ COMMON = ["--backend", BACKEND, "--quiet", "--set", "resolution.ratio=4"]
 tmp = tempfile.mkdtemp(prefix="sphsolid-monitor-")
 
 
-def run(name, sets):
+def run(name, sets, options=()):
     out = os.path.join(tmp, name)
-    args = [BIN, "run", PLATE, "--out", out] + COMMON
+    args = [BIN, "run", PLATE, "--out", out] + COMMON + list(options)
     for s in sets:
         args += ["--set", s]
     p = subprocess.run(args, capture_output=True, text=True, timeout=900)
@@ -72,9 +72,9 @@ def series_times(out):
         return [e["time"] for e in json.load(f)["files"]]
 
 
-def check_trip(name, sets, quantity, at_output=True):
+def check_trip(name, sets, quantity, at_output=True, options=()):
     """Run, expect a trip of `quantity`; return the instability record."""
-    out, code, err = run(name, sets)
+    out, code, err = run(name, sets, options)
     check(code == 4, f"{name}: exit status {code}, expected 4 ({err})")
     m = re.search(r"instability at t = (\S+) s: (.*) at particle (\d+) of body 'plate' "
                   r"\(x = ([^)]*)\)", err)
@@ -127,9 +127,15 @@ try:
         check(ins["value"] > 1.5 and ins["threshold"] == 1.5,
               f"energy: E/E0 = {ins['value']} above the default bound 1.5")
 
-    ins = check_trip("overflow", ["time.end=0.3", "monitor.action=off",
-                                  "bodies.plate.initial_velocity.amplitude_c0=1e200"],
-                     "the energies overflowed")
+    # the pre-run work estimate refuses such a speed (exit 2 naming the key,
+    # docs/scene-format.md "Predicted work"); --no-work-limit lets it reach
+    # the monitor's non-finite check
+    overflow = ["time.end=0.3", "monitor.action=off",
+                "bodies.plate.initial_velocity.amplitude_c0=1e200"]
+    _, code, err = run("overflow-refused", overflow)
+    check(code == 2 and "bodies.plate.initial_velocity" in err and "--no-work-limit" in err,
+          f"overflow: refused before the run (exit {code}: {err})")
+    ins = check_trip("overflow", overflow, "the energies overflowed", options=["--no-work-limit"])
     if ins:
         check(ins["time"] == 0.0, f"overflow: at t = 0 ({ins['time']})")
 
@@ -139,13 +145,16 @@ try:
         check(ins["position"][0] > 0.15, f"domain: particle at the free end: {ins['position']}")
         check(abs(ins["time"] - 0.01) < 1e-12, f"domain: at the first output: {ins['time']}")
 
-    # an explicit domain must enclose the bodies: a domain too small trips at t = 0
-    ins = check_trip("domain_given", ["time.end=0.1",
-                                      "monitor.domain.lower=[-1.0, -1.0]",
-                                      "monitor.domain.upper=[0.1, 1.0]"],
-                     "outside the monitored domain")
-    if ins:
-        check(ins["time"] == 0.0, f"domain_given: at t = 0 ({ins['time']})")
+    # an explicit domain must enclose the bodies: one too small is bad input
+    # (exit 2, naming the override), not an instability at t = 0 (issue 34)
+    out, code, err = run("domain_given", ["time.end=0.1",
+                                          "monitor.domain.lower=[-1.0, -1.0]",
+                                          "monitor.domain.upper=[0.1, 1.0]"])
+    check(code == 2 and err.startswith("sphsolid: --set monitor.domain.upper=[0.1, 1.0]: "
+                                       "monitor.domain.upper: ") and
+          "particles of body 'plate'" in err and "start outside the domain" in err and
+          not os.path.exists(os.path.join(out, "summary.json")),
+          f"domain_given: refused as bad input: exit {code} ({err})")
 
     out, code, err = run("turning_point", [
         "resolution.ratio=6", "materials.plate.poisson_ratio=0.499",

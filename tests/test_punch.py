@@ -22,7 +22,7 @@ dp = 0.05 (both backends give the same values; `sphsolid compare` of the two run
   K eps/(1 - eps) + G_s s(eps) = rho0 v^2 / eps (s = -ln(1 - eps) or eps/(1 - eps)): the
   continuum (G_s = G) gives eps = 0.343, p = 2.96e7 Pa.  SPH-ENOG-A's Laplacian shear force
   acts in uniaxial strain as G_s = 2.6 G (a linear wave between rollers at nu = 0.45 has 6.7 %
-  less strain than v / c_L; README, "Known deviations"), which gives 2.69-2.76e7 Pa.  The mean
+  less strain than v / c_L; docs/method.md, "Known deviations"), which gives 2.69-2.76e7 Pa.  The mean
   pressure of the plate's particles moving at v (+- 5 %) with x0 > 0.85 at 1.25 ms must lie
   in [2.64e7, 3.02e7] Pa, from the RH state with G_s = 3 G to that with G_s = G plus 2 %
   (measured 2.762e7 Pa over 6 particles; 2.689e7 at dp = 0.025, 2.692e7 at 0.0125);

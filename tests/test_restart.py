@@ -7,6 +7,9 @@ same backend and precision; a run killed while it writes a checkpoint keeps
 the previous checkpoint, which still restarts to the same bits; restarts
 refuse a scene file or a change of physics; `sphsolid compare` passes on the
 identical runs and fails on a perturbed copy, naming the field and particle.
+A restart goes on writing checkpoints at the interval stored in the checkpoint
+and leaves no .partial checkpoint; one to an end before the checkpoint is
+refused.
 Under the sanitizers (sphtest.SANITIZED) the plate runs end at 0.1 s instead of 0.2 s: the
 same checkpoints at 0.04 and 0.08 s, and a shorter tail after them.
 """
@@ -113,6 +116,13 @@ try:
     p = run(["run", "--restart", b, "--backend", BACKEND, "--quiet"])
     check(p.returncode == 0, "restart after a kill during a write: %s" % p.stderr)
     same_results(ref, b, "kill during a checkpoint write and restart")
+    # that restart had no --checkpoint-every: it goes on with the run's own
+    # (0.04 s, stored in the checkpoint) to a final checkpoint at the end
+    # time, and the interrupted write's 0-byte .partial is gone
+    check(abs(checkpoint_time(b) - float(END)) < 1e-15,
+          "a restart continues the stored checkpoint interval: final checkpoint at %s, got %g"
+          % (END, checkpoint_time(b)))
+    check(not os.path.exists(ckb + ".partial"), "a restarted run leaves no checkpoint.h5.partial")
 
     # restart into another directory, extending the end time
     c = os.path.join(tmp, "extended")
@@ -136,6 +146,16 @@ try:
         check(p.returncode == 2 and needle in p.stderr,
               "%s: exit 2 mentioning %r, got %d: %s" % (args, needle, p.returncode, p.stderr.strip()))
 
+    # an end before the checkpoint: refused, naming time.end and the
+    # checkpoint's time, before anything in the directory changes
+    t_a = checkpoint_time(a)
+    p = run(["run", "--restart", a, "--backend", BACKEND, "--quiet", "--set", "time.end=0.05"])
+    check(p.returncode == 2 and "time.end = 0.05 s is before" in p.stderr and
+          "t = %.9g s" % t_a in p.stderr and os.path.exists(os.path.join(a, "summary.json")) and
+          checkpoint_time(a) == t_a,
+          "restart to an end before the checkpoint (t = %g): exit 2 naming time.end and the "
+          "checkpoint's time, got %d: %s" % (t_a, p.returncode, p.stderr.strip()))
+
     # TLSPH: the restart rebuilds the reference configuration from the
     # initial particles, then restores the fields, and never rebuilds again
     tl = ["--backend", BACKEND, "--quiet", "--set", "time.end=0.1", "--set",
@@ -152,6 +172,34 @@ try:
     p = run(["run", "--restart", e, "--backend", BACKEND, "--quiet"])
     check(p.returncode == 0, "TLSPH restart: %s" % p.stderr)
     same_results(tref, e, "TLSPH kill -9 and restart")
+
+    # issue 34: a checkpoint interval below the steps (the old scheduling
+    # added it to the next checkpoint time until past t: 1e-12 s took 30 s
+    # of additions, 1e-300 was lost to rounding and never ended) checkpoints
+    # after every advection step, with a note, and leaves the results those
+    # of the run without checkpoints
+    fast = ["--backend", BACKEND, "--set", "resolution.ratio=4", "--set", "time.end=0.01"]
+    f0 = os.path.join(tmp, "ck_none")
+    p = run(["run", PLATE, "--out", f0, "--quiet"] + fast)
+    check(p.returncode == 0, "run without checkpoints: %s" % p.stderr)
+    for every in ("1e-12", "1e-300"):
+        f = os.path.join(tmp, "ck_" + every)
+        t0 = time.time()
+        try:
+            p = subprocess.run([BIN, "run", PLATE, "--out", f, "--checkpoint-every", every] + fast,
+                               capture_output=True, text=True, timeout=30)
+        except subprocess.TimeoutExpired:
+            check(False, "--checkpoint-every %s: still running after 30 s" % every)
+            continue
+        wall = time.time() - t0
+        check(p.returncode == 0 and wall < 10 and
+              "a checkpoint is written after every advection step" in p.stderr,
+              "--checkpoint-every %s: exit %d in %.1f s (expected 0, within 10 s, with a note): %s"
+              % (every, p.returncode, wall, p.stderr.strip()[-300:]))
+        if p.returncode == 0:
+            check(checkpoint_time(f) == 0.01,
+                  "--checkpoint-every %s: a checkpoint at the end" % every)
+            same_results(f0, f, "--checkpoint-every %s against no checkpoints" % every)
 
     # compare fails on a perturbed copy, naming the field and the particle
     d = os.path.join(tmp, "perturbed")

@@ -139,7 +139,7 @@ static void test_spinning_plate(test_counts *c) {
 
 /* A material with its own sound speed (003 §5.2.3): K = rho0 c0^2, G from E, nu. */
 /* The acoustic CFL defaults to 0.4 (000, 003) and to 0.2 with the
- * Laguerre-Wendland kernel, whose plate blows up at 0.3-0.4 (README,
+ * Laguerre-Wendland kernel, whose plate blows up at 0.3-0.4 (docs/method.md,
  * kernels); a scene's own value always wins.  The square Taylor bar states
  * no CFL, the plate states 0.4. */
 static void test_kernel_cfl(test_counts *c) {
@@ -552,6 +552,43 @@ static const bad_row BAD[] = {
      "--set resolution.ratio=10: resolution.ratio: give either dp or reference_length and ratio"},
     {"--set a string into a float array", NULL, NULL, "shapes.block.upper.[0]=wide",
      "--set shapes.block.upper.[0]=wide: shapes.block.upper.[0]: every element of this array"},
+    /* integers beyond 32 bits are read whole, not as their low 32 bits
+     * (libconfig 1.5 would read 4294967298 as 2) */
+    {"dimension beyond 32 bits", "dimension = 2;", "dimension = 4294967298;", NULL,
+     "%F:2: dimension: must be 2 or 3, got 4294967298"},
+    {"dimension below -2^31", "dimension = 2;", "dimension = -4294967294;", NULL,
+     "%F:2: dimension: must be 2 or 3, got -4294967294"},
+    {"dimension in hexadecimal beyond 32 bits", "dimension = 2;", "dimension = 0x100000002;", NULL,
+     "%F:2: dimension: must be 2 or 3, got 4294967298"},
+    {"dimension with the 64-bit suffix", "dimension = 2;", "dimension = 4294967298L;", NULL,
+     "%F:2: dimension: must be 2 or 3, got 4294967298"},
+    {"--set dimension beyond 32 bits", NULL, NULL, "dimension=4294967298",
+     "--set dimension=4294967298: dimension: must be 2 or 3, got 4294967298"},
+    {"relaxation steps beyond 32 bits", "shape = \"block\";",
+     "shape = \"block\"; placement = \"relaxed\"; relaxation = { steps = 4294967297; };", NULL,
+     "%F:13: bodies.a.relaxation.steps: must be in [0, 1000000], got 4294967297"},
+    {"relaxation seed below -2^31", "shape = \"block\";",
+     "shape = \"block\"; placement = \"relaxed\"; relaxation = { seed = -2147483649; };", NULL,
+     "%F:13: bodies.a.relaxation.seed: must be >= 0, got -2147483649"},
+    {"relaxation seed -2^63", "shape = \"block\";",
+     "shape = \"block\"; placement = \"relaxed\"; relaxation = { seed = -9223372036854775808; "
+     "};",
+     NULL, "%F:13: bodies.a.relaxation.seed: must be >= 0, got -9223372036854775808"},
+    {"relaxation seed 2^64", "shape = \"block\";",
+     "shape = \"block\"; placement = \"relaxed\"; relaxation = { seed = 18446744073709551616; "
+     "};",
+     NULL,
+     "%F:13: bodies.a.relaxation.seed: expected a 64-bit integer (-9223372036854775808 to "
+     "18446744073709551615), got 1.8446744073709552e+19"},
+    {"relaxation seed beyond 64 bits in hexadecimal", "shape = \"block\";",
+     "shape = \"block\"; placement = \"relaxed\"; relaxation = { seed = 0x10000000000000000; "
+     "};",
+     NULL, "%F:13: bodies.a.relaxation.seed: expected a 64-bit integer"},
+    {"a number key given an integer beyond 32 bits", "poisson_ratio = 0.3",
+     "poisson_ratio = 4294967296", NULL,
+     "%F:7: materials.steel.poisson_ratio: must be in [0, 0.5), got 4.29497e+09"},
+    {"--set a list index beyond 32 bits", NULL, NULL, "bodies.[4294967296].material=steel",
+     "--set bodies.[4294967296].material=steel: bodies.[4294967296]: no such setting"},
 };
 
 /* Replace the first `find` in `text` by `replace`. */
@@ -762,6 +799,83 @@ static void test_round_shapes(test_counts *c) {
     }
 }
 
+/* Integers are read as 64 bits: a seed takes the whole unsigned range
+ * (docs/scene-format.md), and a number key takes an integer of any size;
+ * comments, strings and decimals are left as they are; the values survive
+ * the resolved text a checkpoint stores. */
+static void test_wide_integers(test_counts *c) {
+    static const struct {
+        const char *seed;
+        uint64_t expect;
+    } seeds[] = {{"2147483648", 2147483648ULL},
+                 {"4294967296", 4294967296ULL},
+                 {"4294967296L", 4294967296ULL},
+                 {"9223372036854775807", 9223372036854775807ULL},
+                 {"9223372036854775808", 9223372036854775808ULL},
+                 {"18446744073709551615", 18446744073709551615ULL},
+                 {"0xFFFFFFFFFFFFFFFF", 18446744073709551615ULL},
+                 {"0xFFFFFFFFFFFFFFFFL", 18446744073709551615ULL},
+                 {"0x80000000", 2147483648ULL},
+                 {"0", 0},
+                 {"7", 7}};
+    for (size_t k = 0; k < sizeof seeds / sizeof seeds[0]; k++) {
+        char find[160], text[4096], path[1024];
+        snprintf(find, sizeof find,
+                 "shape = \"block\"; placement = \"relaxed\"; relaxation = { seed = %s; };",
+                 seeds[k].seed);
+        edit(BASE, "shape = \"block\";", find, text, sizeof text);
+        test_scene_write(&tmp, text, path, sizeof path);
+        sph_scene s;
+        sph_error err = {0};
+        sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK && s.bodies[0].relaxation.seed == seeds[k].expect,
+              "seed = %s: status %d, seed %llu (%s)", seeds[k].seed, st,
+              (unsigned long long)s.bodies[0].relaxation.seed, err.msg);
+        if (st != SPH_OK) continue;
+        /* a restart reloads the resolved text */
+        sph_scene r;
+        st = sph_scene_load_text(&r, "resolved", s.resolved_text, NULL, 0, &err);
+        CHECK(c, st == SPH_OK && r.bodies[0].relaxation.seed == seeds[k].expect,
+              "seed = %s after the resolved text: %s", seeds[k].seed, err.msg);
+        if (st == SPH_OK) sph_scene_free(&r);
+        /* and an override sets the same */
+        char ov[128];
+        snprintf(ov, sizeof ov, "bodies.a.relaxation.seed=%s", seeds[k].seed);
+        const char *ovs[1] = {ov};
+        sph_scene_free(&s);
+        edit(BASE, "shape = \"block\";", "shape = \"block\"; placement = \"relaxed\";", text,
+             sizeof text);
+        test_scene_write(&tmp, text, path, sizeof path);
+        st = sph_scene_load(&s, path, ovs, 1, &err);
+        CHECK(c, st == SPH_OK && s.bodies[0].relaxation.seed == seeds[k].expect,
+              "--set %s: status %d, seed %llu (%s)", ov, st,
+              (unsigned long long)s.bodies[0].relaxation.seed, err.msg);
+        if (st == SPH_OK) sph_scene_free(&s);
+    }
+
+    /* numbers: an integer of any size; the text around them untouched */
+    char text[4096], path[1024];
+    edit(BASE, "# test scene\n",
+         "# test scene 4294967296\ntitle = \"run 99999999999999999999 /* 4294967296 */\";\n", text,
+         sizeof text);
+    char text2[4096];
+    edit(text, "youngs_modulus = 2.0e11", "youngs_modulus = 200000000000", text2, sizeof text2);
+    edit(text2, "density = 7800.0", "density = 7800000000000000000000", text, sizeof text);
+    edit(text, "end = 1.0", "end = 4294967296.5", text2, sizeof text2);
+    test_scene_write(&tmp, text2, path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "large integers as numbers: %s", err.msg);
+    if (st != SPH_OK) return;
+    CHECK(c, s.materials[0].youngs_modulus == 2e11, "E %.17g", s.materials[0].youngs_modulus);
+    CHECK(c, s.materials[0].density == 7.8e21, "rho beyond 64 bits %.17g", s.materials[0].density);
+    CHECK(c, s.end_time == 4294967296.5, "decimal untouched %.17g", s.end_time);
+    CHECK(c, strcmp(s.title, "run 99999999999999999999 /* 4294967296 */") == 0, "title '%s'",
+          s.title);
+    sph_scene_free(&s);
+}
+
 static void test_names(test_counts *c) {
     CHECK(c, strcmp(sph_formulation_name(SPH_FORMULATION_ENOG), "enog") == 0, "enog");
     CHECK(c, strcmp(sph_formulation_name(SPH_FORMULATION_ENOG_A), "enog-a") == 0, "enog-a");
@@ -781,6 +895,7 @@ int main(void) {
     test_bad_inputs(&c);
     test_features(&c);
     test_round_shapes(&c);
+    test_wide_integers(&c);
     test_names(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_scene", &c);

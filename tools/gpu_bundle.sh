@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Prepare a self-contained bundle for running sphsolid on a GPU machine that has the NVIDIA
 # driver but no OpenCL ICD loader, HDF5 or libconfig (the lent NVIDIA machines of this
-# workplace: README "GPU"). Builds a Release tree here (Debian 12), and puts into .ocl/:
+# workplace: docs/gpu.md). Builds a Release tree here (Debian 12), and puts into .ocl/:
 #   lib/  Debian's ICD loader (ocl-icd-libopencl1) and every shared library the binaries need
 #         beyond glibc;  bin/clinfo  (Debian's clinfo, to check the loader sees the driver).
 # On the GPU machine: `source tools/gpu_env.sh` (carry .ocl and the build folder).

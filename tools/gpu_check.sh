@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # One call's worth of GPU work on a machine prepared by tools/gpu_bundle.sh (carry .ocl and
 # build-gpu): the device and its bandwidth, every OpenCL test body on it, then the benchmarks
-# (README "GPU"; what the 2026-11-23 H100 session ran in three calls), each stage skipped when
+# (docs/gpu.md; what the 2026-11-23 H100 session ran in three calls), each stage skipped when
 # the time budget is spent.  Logs and JSON go to OUTDIR (default $OUT, else /tmp/gpu-check).
 #   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests bench3d bench evr3d]
 # (evr3d, the 3D plate's error-against-run-time ladder at H/dp = 3, 5, 9, is not in the default)

@@ -9,8 +9,11 @@ Writes, under PLOTDIR (default RUN_DIR/plots):
   timeseries.png         (a) each observer's displacement from its t = 0 position (the
                          component with the largest excursion), (b) kinetic, strain and
                          total energy, (c) linear momentum components and the angular
-                         momentum relative error |L(t) - L0| / |L0| (|L| itself when L0 = 0),
-                         all against time; panels without data are left out.
+                         momentum relative error |L(t) - L0| / |L0| where summary.json says it
+                         is conserved and L0 != 0 (its max_angular_momentum_error is a number);
+                         otherwise |L| itself, with the reason the error is not shown (a
+                         constraint, a wall, gravity: "angular_momentum_not_conserved"; no spin;
+                         no summary.json), all against time; panels without data are left out.
   snapshot_NNNNNN.png    particles at their deformed positions coloured by von Mises stress
                          (or by the first scalar point field present when there is none), one
                          colour scale for all the plotted snapshots; 3D runs are projected
@@ -68,7 +71,8 @@ def fail(msg):
 def read_timeseries(path):
     """Columns of a timeseries CSV as {name: float array}.  A row with the wrong number of
     fields or an unparsable value (the torn last line of a killed run) ends the table."""
-    with open(path) as f:
+    # UTF-8 whatever the locale: what the writers write (docs/output-format.md)
+    with open(path, encoding="utf-8") as f:
         header = f.readline().strip()
         if not header:
             return [], {}
@@ -88,7 +92,7 @@ def read_timeseries(path):
 
 def read_json(path):
     try:
-        with open(path) as f:
+        with open(path, encoding="utf-8") as f:
             return json.load(f)
     except (OSError, ValueError):
         return None
@@ -163,7 +167,26 @@ def top_legend(ax, handles=None):
               columnspacing=1.2)
 
 
-def plot_timeseries(names, cols, dim, title, out_path):
+def angular_momentum_error_shown(summary):
+    """(True, None) where |L - L0| / |L0| is an error to plot: summary.json's metrics say
+    the scene conserves angular momentum and the body spins; else (False, why).  Where
+    something outside the bodies exerts a torque (a clamp, rollers, a driven region, a
+    wall, gravity), |L - L0| / |L0| swings through 200 % with the motion: plotted, it would
+    read as a 200 % error."""
+    if not summary:
+        return False, "no summary.json: angular-momentum conservation unknown"
+    metrics = summary.get("metrics") or {}
+    if "angular_momentum_not_conserved" not in metrics:
+        return False, "summary.json does not say whether angular momentum is conserved"
+    why = metrics["angular_momentum_not_conserved"]
+    if why:
+        return False, f"angular momentum not conserved ({why})"
+    if metrics.get("max_angular_momentum_error") is None:
+        return False, "no spin (L0 = 0)"
+    return True, None
+
+
+def plot_timeseries(names, cols, dim, title, out_path, summary=None):
     t = cols.get("time")
     if t is None or len(t) == 0:
         return None
@@ -223,17 +246,24 @@ def plot_timeseries(names, cols, dim, title, out_path):
             if L is not None and len(L):
                 ax2 = ax.twinx()
                 L0 = np.linalg.norm(L[0])
-                Lmax = float(np.max(np.linalg.norm(L, axis=1)))
-                if L0 > 0 and L0 > 1e-6 * Lmax:
+                shown, why = angular_momentum_error_shown(summary)
+                if shown and L0 > 0:
                     err = np.linalg.norm(L - L[0], axis=1) / L0
                     handles += ax2.plot(t, err, color="tab:purple", ls="--",
                                         label="$|L - L_0| / |L_0|$")
                     ax2.set_ylabel("angular momentum $|L - L_0| / |L_0|$", color="tab:purple")
                     summary_bits.append(f"max |L - L0|/|L0| = {float(np.max(err)):.3g}")
                 else:
+                    why = why or "no spin (L0 = 0)"
                     handles += ax2.plot(t, np.linalg.norm(L, axis=1), color="tab:purple",
-                                        ls="--", label="$|L|$  ($L_0 = 0$)")
+                                        ls="--", label="$|L|$")
                     ax2.set_ylabel(f"angular momentum |L| [{unit_l}]", color="tab:purple")
+                    # on the twin axes, drawn after the first: above every curve
+                    ax2.text(0.01, 0.03, f"$|L - L_0| / |L_0|$ not shown: {why}",
+                             transform=ax2.transAxes, fontsize="small", color="tab:purple",
+                             ha="left", va="bottom", wrap=True, zorder=5,
+                             bbox=dict(facecolor="white", edgecolor="none", alpha=0.85))
+                    summary_bits.append(f"{why}: |L| plotted, not |L - L0|/|L0|")
                 ax2.tick_params(axis="y", colors="tab:purple")
             top_legend(ax, handles)
         panels.append(("momentum", draw_momentum))
@@ -541,7 +571,7 @@ def main(argv):
     os.makedirs(out_dir, exist_ok=True)
 
     out = os.path.join(out_dir, "timeseries.png")
-    desc = plot_timeseries(names, cols, dim, title, out)
+    desc = plot_timeseries(names, cols, dim, title, out, summary)
     if desc is None:
         print(f"{PROG}: warning: {ts_path} has no rows: no timeseries plot", file=sys.stderr)
     else:

@@ -19,8 +19,9 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -L cpu
 
 # fuzzing: libFuzzer over the scene parser, validator and particle generator
-# for 60 s from the seed corpus (tests/fuzz; any crash, leak, UB report,
-# hang or broken invariant fails the script and leaves crash-* in build-fuzz)
+# for 60 s, and over the run directory's writers for 20 s, from the seed
+# corpora (tests/fuzz; any crash, leak, UB report, hang or broken invariant
+# fails the script and leaves crash-* in build-fuzz)
 if ! command -v clang >/dev/null; then
   echo "fuzzing skipped: no clang (apt-get install clang libclang-rt-14-dev)"
 elif [ ! -f "$(clang -print-file-name=libclang_rt.fuzzer-x86_64.a)" ]; then
@@ -28,12 +29,21 @@ elif [ ! -f "$(clang -print-file-name=libclang_rt.fuzzer-x86_64.a)" ]; then
 else
   cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DSPHSOLID_WERROR=ON -DSPHSOLID_FUZZ=ON
-  cmake --build build-fuzz --target fuzz_scene -j "$jobs"
-  mkdir -p build-fuzz/corpus
+  cmake --build build-fuzz --target fuzz_scene fuzz_writers -j "$jobs"
+  mkdir -p build-fuzz/corpus build-fuzz/writers-corpus
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
     build-fuzz/tests/fuzz/fuzz_scene -max_total_time=60 -timeout=10 -rss_limit_mb=2048 \
     -dict=tests/fuzz/scene.dict -artifact_prefix=build-fuzz/ \
     build-fuzz/corpus tests/fuzz/corpus tests/fuzz/regressions
+  # the run-directory writers for 20 s: names and free text of arbitrary bytes
+  # through timeseries.csv and summary.json, read back (tests/fuzz/fuzz_writers.c);
+  # each input writes a small run directory, on /dev/shm where there is one
+  # (about 8x the inputs per second of a disk-backed /tmp)
+  fuzz_tmp=${TMPDIR:-/tmp}
+  if [ -d /dev/shm ] && [ -w /dev/shm ]; then fuzz_tmp=/dev/shm; fi
+  TMPDIR=$fuzz_tmp LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
+    build-fuzz/tests/fuzz/fuzz_writers -max_total_time=20 -timeout=10 -rss_limit_mb=2048 \
+    -max_len=1024 -artifact_prefix=build-fuzz/ build-fuzz/writers-corpus tests/fuzz/writers_corpus
 fi
 
 # formatting: the sources match .clang-format

@@ -6,7 +6,8 @@
  * violation as a crash:
  *   - rejected with SPH_ERR_INPUT and a message that names the input (its
  *     origin) or the override (`--set ...`);
- *   - accepted, with the validator's promises kept: finite positive spacing,
+ *   - accepted, with the validator's promises kept: names that keep the
+ *     name rule (sph_name_check), finite positive spacing,
  *     finite box corners with lower < upper, finite positive material
  *     constants, indices in range, and resolved text that loads again (a
  *     restart reloads it from the checkpoint).
@@ -14,7 +15,7 @@
  * goes through sph_particles_generate, which must either fail the same way
  * or give every body particles inside its shape, with finite values.
  *
- * Build: cmake -DCMAKE_C_COMPILER=clang -DSPHSOLID_FUZZ=ON (README, Tests). */
+ * Build: cmake -DCMAKE_C_COMPILER=clang -DSPHSOLID_FUZZ=ON (docs/tests.md, "Fuzzing"). */
 #include "fuzz_scene.h"
 
 #include "particles.h"
@@ -102,6 +103,25 @@ static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
                     violate(res, "shape %d: part %d", s, sh->parts[i]);
         }
     }
+    /* every name keeps the rule (timeseries.csv columns, JSON, --set keys) */
+    char why[256];
+    for (int m = 0; m < sc->nmaterials; m++)
+        if (!sph_name_check(sc->materials[m].name, why, sizeof why))
+            violate(res, "material %d: %s", m, why);
+    for (int s = 0; s < sc->nshapes; s++)
+        if (sc->shapes[s].name[0] && !sph_name_check(sc->shapes[s].name, why, sizeof why))
+            violate(res, "shape %d: %s", s, why);
+    for (int b = 0; b < sc->nbodies; b++)
+        if (!sph_name_check(sc->bodies[b].name, why, sizeof why))
+            violate(res, "body %d: %s", b, why);
+    for (int o = 0; o < sc->nobservers; o++)
+        if (!sph_name_check(sc->observers[o].name, why, sizeof why) ||
+            sph_observer_name_reserved(sc->observers[o].name))
+            violate(res, "observer %d: '%s' breaks the name rule or is reserved", o,
+                    sc->observers[o].name);
+    for (int w = 0; w < sc->nwalls; w++)
+        if (!sph_name_check(sc->walls[w].name, why, sizeof why))
+            violate(res, "wall %d: %s", w, why);
     for (int b = 0; b < sc->nbodies; b++) {
         const sph_body *body = &sc->bodies[b];
         if (body->material < 0 || body->material >= sc->nmaterials || body->shape < 0 ||
