@@ -8,6 +8,7 @@
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
  *   sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]
+ *   sphsolid kernel-study [--out DIR] [--dp X] [--kappas list] [--kernels list]
  *   sphsolid devices
  *   sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K] [--json]
  *
@@ -17,6 +18,7 @@
  */
 #include "bandwidth.h"
 #include "compare.h"
+#include "kernel_study.h"
 #include "opencl_runtime.h"
 #include "plot.h"
 #include "particles.h"
@@ -43,6 +45,7 @@ static void usage(FILE *f) {
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
         "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
         "       sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]\n"
+        "       sphsolid kernel-study [--out DIR] [--dp X] [--kappas list] [--kernels list]\n"
         "                             [--steps N] [--seed S] [--exclude E]\n"
         "       sphsolid devices\n"
         "       sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K]\n"
@@ -79,6 +82,10 @@ static void usage(FILE *f) {
         "          run, save them to their relaxation.file and print the residuals;\n"
         "          --out FILE saves the one relaxed body to FILE, --force relaxes even\n"
         "          when the file matches\n"
+        "kernel-study  004's kernel study (Tables 1-4, Fig. 2): a disc D = 2 relaxed with\n"
+        "          each kernel at each kappa = h/dp (h = 1.3 X, X = --dp, default 1/60);\n"
+        "          df/dx errors and relaxation residues into DIR/kernel_study.json\n"
+        "          (default DIR: runs/kernel-study; docs/kernel-study.md)\n"
         "compare   per-field maximum differences of two runs' snapshots and time series\n"
         "bandwidth the device's memory bandwidth: a streaming copy, GB/s (read + write)\n"
         "exit status: 0 success, 2 bad input, 1 runtime failure, 3 compare: beyond tolerance,\n"
@@ -401,6 +408,7 @@ int main(int argc, char **argv) {
     if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
     if (strcmp(argv[1], "relax") == 0) return cmd_relax(argc - 2, argv + 2);
     if (strcmp(argv[1], "compare") == 0) return sph_compare_main(argc - 2, argv + 2);
+    if (strcmp(argv[1], "kernel-study") == 0) return sph_kernel_study_main(argc - 2, argv + 2);
     if (strcmp(argv[1], "bandwidth") == 0) return sph_bandwidth_main(argc - 2, argv + 2);
     return input_error("unknown command '%s'", argv[1]);
 }
