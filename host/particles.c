@@ -61,6 +61,9 @@ void sph_velocity_field_eval(const sph_scene *scene, const sph_body *body, const
                      sin(f->modes[1] * pi * (x[1] - f->lower[1]) / f->size[1]);
         break;
     }
+    case SPH_VELOCITY_EXPRESSION:
+        /* compiled once per body by apply_velocity_expressions, not per call */
+        break;
     }
 }
 
@@ -236,6 +239,60 @@ static void format_point(const double x[3], int dim, char *buf, size_t len) {
         snprintf(buf, len, "(%g, %g)", x[0], x[1]);
     else
         snprintf(buf, len, "(%g, %g, %g)", x[0], x[1], x[2]);
+}
+
+/* The velocities of the bodies whose initial_velocity is an expression
+ * (set_point_data left them 0): the body's expressions are compiled once
+ * and evaluated at every particle of the body, placed or relaxed.  A value
+ * that is not finite is an input error naming the expression's key and the
+ * particle. */
+static sph_status apply_velocity_expressions(const sph_scene *scene, sph_particles *out,
+                                             sph_error *err) {
+    const int dim = scene->dim;
+    const size_t n = (size_t)out->n;
+    const char *vars[3], *names[SPH_SCENE_MAX_CONSTANTS];
+    const int nvars = sph_scene_expression_variables(dim, vars);
+    const sph_expression_constants constants = sph_scene_expression_constants(scene, names);
+    size_t start = 0;
+    for (int b = 0; b < scene->nbodies; b++) {
+        const size_t count = (size_t)out->body_count[b];
+        const sph_body *body = &scene->bodies[b];
+        const sph_velocity_field *f = &body->velocity;
+        if (f->type != SPH_VELOCITY_EXPRESSION) {
+            start += count;
+            continue;
+        }
+        const char *texts[3] = {f->expression[0], f->expression[1], f->expression[2]};
+        sph_expression_field field;
+        int bad = -1;
+        char why[768];
+        /* the scene loader compiled the same texts: a failure here is a
+         * scene built around it (a test, a caller filling sph_scene) */
+        if (!sph_expression_field_compile(&field, texts, dim, vars, nvars, &constants, &bad, why,
+                                          sizeof why))
+            return sph_fail(err, SPH_ERR_INPUT, "%s: %s",
+                            bad >= 0 && f->expression_where[bad][0] ? f->expression_where[bad]
+                                                                    : body->where,
+                            why);
+        for (size_t i = start; i < start + count; i++) {
+            double x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+            for (int a = 0; a < dim; a++) x[a] = out->pos[(size_t)a * n + i];
+            if (!sph_expression_field_eval(&field, x, false, v, &bad, why, sizeof why)) {
+                char point[96];
+                format_point(x, dim, point, sizeof point);
+                sph_expression_field_free(&field);
+                return sph_fail(err, SPH_ERR_INPUT,
+                                "%s: the expression \"%.200s\" %s at the particle at %s of body "
+                                "'%s': initial velocities must be finite",
+                                f->expression_where[bad], f->expression[bad], why, point,
+                                body->name);
+            }
+            for (int a = 0; a < dim; a++) out->vel[(size_t)a * n + i] = v[a];
+        }
+        sph_expression_field_free(&field);
+        start += count;
+    }
+    return SPH_OK;
 }
 
 /* The bounding box of body b's particles [start, start + count). */
@@ -536,6 +593,7 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     for (size_t i = 0; out->fixed && i < n; i++) out->fixed_count += out->fixed[i] != 0;
     sph_status rst = check_constraint_regions(scene, out, err);
     if (!rst) rst = relax_bodies(scene, origin, force_relax, out, err);
+    if (!rst) rst = apply_velocity_expressions(scene, out, err);
     if (!rst) rst = check_monitor_domain(scene, out, err);
     if (rst) {
         sph_particles_free(out);

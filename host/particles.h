@@ -65,7 +65,9 @@ double sph_host_memory_available(char *describe, size_t len);
 /* "12.3 GiB" */
 void sph_format_bytes(double bytes, char *buf, size_t len);
 
-/* The initial velocity of a body's velocity field at point x. */
+/* The initial velocity of a body's velocity field at point x; 0 for an
+ * expression field, which sph_particles_generate evaluates (compiled once
+ * per body, expression.h). */
 void sph_velocity_field_eval(const sph_scene *scene, const sph_body *body, const double x[3],
                              double v[3]);
 

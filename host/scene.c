@@ -1499,15 +1499,99 @@ static sph_status parse_shapes(loader *L, const config_setting_t *root) {
     return SPH_OK;
 }
 
+/* An expression as a message shows it: quoted, bytes outside printable
+ * ASCII as \xHH (the message stays one line), cut after 160 characters. */
+static const char *shown_expression(const char *text, char *buf, size_t size) {
+    size_t len = 0;
+    len += (size_t)snprintf(buf, size, "\"");
+    for (size_t i = 0; text[i] && len + 8 < size; i++) {
+        const unsigned char c = (unsigned char)text[i];
+        if (i == 160) {
+            len += (size_t)snprintf(buf + len, size - len, "...");
+            break;
+        }
+        if (c >= ' ' && c <= '~')
+            buf[len++] = (char)c;
+        else
+            len += (size_t)snprintf(buf + len, size - len, "\\x%02X", c);
+        buf[len] = '\0';
+    }
+    if (len + 2 <= size) snprintf(buf + len, size - len, "\"");
+    return buf;
+}
+
+/* Compile and drop an expression of an initial field: a syntax error, an
+ * unknown variable or an over-long text is an input error at its line now,
+ * not when the particles are placed.  The text is kept for particles.c. */
+static sph_status parse_expression(loader *L, const config_setting_t *s, char *text_out,
+                                   size_t text_size) {
+    const char *text = "";
+    sph_status st = as_string(L, s, &text);
+    if (st) return st;
+    const char *vars[3], *names[SPH_SCENE_MAX_CONSTANTS];
+    const int nvars = sph_scene_expression_variables(L->scene->dim, vars);
+    const sph_expression_constants constants = sph_scene_expression_constants(L->scene, names);
+    sph_expression *e = NULL;
+    char why[768], shown[200];
+    if (!sph_expression_compile(text, vars, nvars, &constants, &e, why, sizeof why))
+        return fail_at(L, s, NULL, "the expression %s: %s",
+                       shown_expression(text, shown, sizeof shown), why);
+    sph_expression_free(e);
+    /* sph_expression_compile refuses texts that do not fit */
+    snprintf(text_out, text_size, "%s", text);
+    return SPH_OK;
+}
+
+/* `constants = { U = 1.0; Re = 100.0; }`: named numbers for the expressions. */
+static sph_status parse_constants(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g;
+    sph_status st = get_group(L, root, "constants", false, &g);
+    if (st || !g) return st;
+    const int n = config_setting_length(g);
+    if (n > SPH_SCENE_MAX_CONSTANTS)
+        return fail_at(L, g, NULL, "at most %d constants, got %d", SPH_SCENE_MAX_CONSTANTS, n);
+    /* every variable name is reserved, in 2D too: a scene keeps its meaning
+     * when it gains a dimension */
+    static const char *const reserved[] = {"x", "y", "z", "t"};
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *m = config_setting_get_elem(g, (unsigned)i);
+        char why[256];
+        if (!sph_expression_name_check(m->name, reserved, 4, why, sizeof why))
+            return fail_at(L, m, NULL, "%s", why);
+        if (!config_setting_is_number(m))
+            return fail_at(L, m, NULL, "expected a number, got %s",
+                           type_name(config_setting_type(m)));
+        if ((st = as_float(L, m, &sc->constant_value[i]))) return st;
+        snprintf(sc->constant_name[i], sizeof sc->constant_name[i], "%s", m->name);
+        sc->nconstants = i + 1;
+    }
+    return SPH_OK;
+}
+
 static sph_status parse_velocity(loader *L, const config_setting_t *g, sph_velocity_field *v) {
     const int dim = L->scene->dim;
     int type = 0;
     sph_status st = get_keyword(
         L, g, "type", true, 0,
-        KEYS("zero", "uniform", "rigid_rotation", "cantilever_mode", "plate_mode"), &type, NULL);
+        KEYS("zero", "uniform", "rigid_rotation", "cantilever_mode", "plate_mode", "expression"),
+        &type, NULL);
     if (st) return st;
     v->type = (sph_velocity_type)type;
     switch (v->type) {
+    case SPH_VELOCITY_EXPRESSION: {
+        /* v_a = the expression of key AXES[a]; a missing key is 0 */
+        if ((st = dim == 2 ? check_keys(L, g, KEYS("type", "x", "y"))
+                           : check_keys(L, g, KEYS("type", "x", "y", "z"))))
+            return st;
+        for (int a = 0; a < dim; a++) {
+            const config_setting_t *s = config_setting_get_member(g, AXES[a]);
+            if (!s) continue;
+            if ((st = parse_expression(L, s, v->expression[a], sizeof v->expression[a]))) return st;
+            where_of(L, s, v->expression_where[a], sizeof v->expression_where[a]);
+        }
+        return SPH_OK;
+    }
     case SPH_VELOCITY_ZERO:
         return check_keys(L, g, KEYS("type"));
     case SPH_VELOCITY_UNIFORM:
@@ -2078,7 +2162,8 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
     if ((st = check_keys(L, root,
                          KEYS("title", "dimension", "resolution", "method", "time", "materials",
                               "shapes", "bodies", "observers", "analysis", "gravity",
-                              "lattice_origin", "output", "monitor", "contact", "walls"))))
+                              "lattice_origin", "output", "monitor", "contact", "walls",
+                              "constants"))))
         return st;
 
     const config_setting_t *at;
@@ -2101,9 +2186,10 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
 
     if ((st = parse_resolution(L, root)) || (st = parse_method(L, root)) ||
         (st = parse_time(L, root)) || (st = parse_materials(L, root)) ||
-        (st = parse_shapes(L, root)) || (st = parse_bodies(L, root)) ||
-        (st = parse_observers(L, root)) || (st = parse_analysis(L, root)) ||
-        (st = parse_output(L, root)) || (st = parse_monitor(L, root)))
+        (st = parse_shapes(L, root)) || (st = parse_constants(L, root)) ||
+        (st = parse_bodies(L, root)) || (st = parse_observers(L, root)) ||
+        (st = parse_analysis(L, root)) || (st = parse_output(L, root)) ||
+        (st = parse_monitor(L, root)))
         return st;
     if ((st = check_material_model(L, root)) || (st = parse_walls(L, root)) ||
         (st = parse_contact(L, root)))
@@ -2462,4 +2548,15 @@ bool sph_scene_has_driven_constraint(const sph_scene *scene) {
             if (c->type == SPH_CONSTRAINT_VELOCITY && c->velocity[a] != 0.0) return true;
     }
     return false;
+}
+
+int sph_scene_expression_variables(int dim, const char *vars[3]) {
+    for (int a = 0; a < 3; a++) vars[a] = AXES[a];
+    return dim == 3 ? 3 : 2;
+}
+
+sph_expression_constants
+sph_scene_expression_constants(const sph_scene *scene, const char *names[SPH_SCENE_MAX_CONSTANTS]) {
+    for (int k = 0; k < scene->nconstants; k++) names[k] = scene->constant_name[k];
+    return (sph_expression_constants){scene->nconstants, names, scene->constant_value};
 }

@@ -14,6 +14,7 @@
 #ifndef SPH_SCENE_H
 #define SPH_SCENE_H
 
+#include "expression.h"
 #include "sph_error.h"
 
 #include <stdbool.h>
@@ -27,7 +28,8 @@
 #define SPH_SCENE_MAX_MATERIALS   8
 #define SPH_SCENE_MAX_CONSTRAINTS 8
 #define SPH_SCENE_MAX_OBSERVERS   16
-#define SPH_SCENE_MAX_WALLS       6 /* = SPH_MAX_WALLS of the device code */
+#define SPH_SCENE_MAX_WALLS       6  /* = SPH_MAX_WALLS of the device code */
+#define SPH_SCENE_MAX_CONSTANTS   32 /* named constants of the expressions */
 #define SPH_SCENE_PATH_LEN        1024
 #define SPH_SCENE_WHERE_LEN       (SPH_SCENE_PATH_LEN + 160)
 
@@ -83,7 +85,8 @@ typedef enum {
     SPH_VELOCITY_UNIFORM,         /* v = vector */
     SPH_VELOCITY_RIGID_ROTATION,  /* v = omega x (x - centre) */
     SPH_VELOCITY_CANTILEVER_MODE, /* 003 eqs. 50-51, see below */
-    SPH_VELOCITY_PLATE_MODE       /* 000 eq. 35, see below */
+    SPH_VELOCITY_PLATE_MODE,      /* 000 eq. 35, see below */
+    SPH_VELOCITY_EXPRESSION       /* v_a = expression[a](x, y, z), see below */
 } sph_velocity_type;
 typedef struct {
     sph_velocity_type type;
@@ -100,6 +103,13 @@ typedef struct {
      * rectangular plate (000 eq. 35) */
     double amplitude, lower[2], size[2];
     int modes[2];
+    /* expression: component a is expression[a] of x, y (, z) and the
+     * scene's constants, "" for 0 (expression.h); compiled and checked at
+     * load, evaluated per particle by particles.c, whose messages about a
+     * non-finite value name expression_where[a] ("<file>:<line>:
+     * bodies.<name>.initial_velocity.y", see sph_body.where) */
+    char expression[3][SPH_EXPRESSION_MAX_LEN];
+    char expression_where[3][SPH_SCENE_WHERE_LEN];
 } sph_velocity_field;
 
 typedef struct {
@@ -224,6 +234,12 @@ typedef struct {
     double contact_impedance, contact_penalty;
     double gravity[3];
 
+    /* `constants`: names and values usable in the expressions of initial
+     * fields, in file order */
+    int nconstants;
+    char constant_name[SPH_SCENE_MAX_CONSTANTS][SPH_NAME_LEN];
+    double constant_value[SPH_SCENE_MAX_CONSTANTS];
+
     /* time */
     double end_time, output_interval;
     sph_stepping stepping;
@@ -309,5 +325,13 @@ const char *sph_kernel_name(sph_kernel k);
 const char *sph_stepping_name(sph_stepping s);
 const char *sph_output_field_name(sph_output_field f);
 const char *sph_placement_name(sph_placement p);
+
+/* The variables of the expressions of initial fields in a scene of
+ * dimension `dim`: "x", "y" (, "z"); returns their number. */
+int sph_scene_expression_variables(int dim, const char *vars[3]);
+/* The scene's constants in the form expression.h takes; `names` must hold
+ * SPH_SCENE_MAX_CONSTANTS pointers and live as long as the result. */
+sph_expression_constants sph_scene_expression_constants(const sph_scene *scene,
+                                                        const char *names[SPH_SCENE_MAX_CONSTANTS]);
 
 #endif

@@ -43,6 +43,9 @@ from sphtest import BIN, PLATE, SRC, check, finish  # noqa: E402
 HAVE_MATPLOTLIB = importlib.util.find_spec("matplotlib") is not None
 
 PLATE_TEXT = open(PLATE).read()
+# the plate's initial velocity group, which the expression rows replace
+CANTILEVER = PLATE_TEXT[PLATE_TEXT.index("initial_velocity = {"):
+                        PLATE_TEXT.index("};", PLATE_TEXT.index("initial_velocity = {")) + 2]
 FAST = ["--set", "resolution.ratio=4", "--set", "time.end=0.01"]
 SCENE = "bad.cfg"  # scenes are written into the row's directory under this name
 RESULTS = ("summary.json", "timeseries.csv", "checkpoint.h5")
@@ -632,6 +635,34 @@ ROWS = [
     # --- issue 34, restart and the output directory
     #     (two runs into one --out: busy_output_directory below; an end before
     #     the checkpoint, checkpoints after a restart: tests/test_restart.py)
+    # --- initial fields as expressions (host/expression.c, issue 30 item 4)
+    Row("expression: unknown variable", 2,
+        ["{file}:{line}: bodies.plate.initial_velocity.y: the expression \"0.1 * q\": unknown "
+         "variable 'q' (variables: x, y)"],
+        [ed(CANTILEVER, 'initial_velocity = { type = "expression";\n'
+            '      y = "0.1 * q"; };')], marker='y = "0.1 * q"', args=FAST),
+    Row("expression: syntax error", 2,
+        ["{file}:{line}: bodies.plate.initial_velocity.y: the expression \"0.1 * sin(x\": "
+         "Missing parenthesis"],
+        [ed(CANTILEVER, 'initial_velocity = { type = "expression";\n'
+            '      y = "0.1 * sin(x"; };')], marker='y = "0.1 * sin(x"', args=FAST),
+    Row("expression: not finite at a particle", 2,
+        ["{file}:{line}: bodies.plate.initial_velocity.y: the expression "
+         "\"x > 0.19 ? 1 / (x - x) : 0\" gives inf at the particle at (0.1925, -0.0075)",
+         "of body 'plate': initial velocities must be finite"],
+        [ed(CANTILEVER, 'initial_velocity = { type = "expression";\n'
+            '      y = "x > 0.19 ? 1 / (x - x) : 0"; };')], marker='y = "x > 0.19', args=FAST),
+    Row("constants: the name of a function", 2,
+        ["{file}:{line}: constants.exp: 'exp' is a function or constant of the expressions "
+         "already"],
+        [ed("dimension = 2;", "dimension = 2;\nconstants = { exp = 1.0; };")],
+        marker="constants = {", args=FAST),
+    Row("--set: an expression that does not parse", 2,
+        # (braces doubled: fragments and argv go through str.format)
+        ['--set bodies.plate.initial_velocity={{ type = "expression"; y = "sin("; }}: '
+         'bodies.plate.initial_velocity.y: the expression "sin(": Unexpected end of expression'],
+        argv=["run", PLATE, "--backend", "cpu", "--quiet", "--out", "{dir}/out"] + FAST +
+        ["--set", 'bodies.plate.initial_velocity={{ type = "expression"; y = "sin("; }}']),
 ]
 
 

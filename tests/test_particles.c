@@ -10,8 +10,11 @@
 #include "particles.h"
 #include "test_support.h"
 
+#include <float.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 static test_scene_dir tmp;
@@ -401,6 +404,115 @@ static void test_rings(test_counts *c) {
     }
 }
 
+/* Largest |v_expr - v_builtin| over the particles and over the components,
+ * and the largest |v_builtin| (both sets place the same particles). */
+static void velocity_difference(const sph_particles *a, const sph_particles *b, double *diff,
+                                double *scale) {
+    *diff = 0.0;
+    *scale = 0.0;
+    const size_t n = (size_t)a->n;
+    for (size_t i = 0; i < (size_t)a->dim * n; i++) {
+        *diff = fmax(*diff, fabs(a->vel[i] - b->vel[i]));
+        *scale = fmax(*scale, fabs(b->vel[i]));
+    }
+}
+
+/* The initial velocity as an expression (host/expression.c) against the
+ * built-in field it writes out, on the same case: the spinning plate's
+ * rigid rotation and the 3D plate's mode (2, 2).  The expressions perform
+ * the built-in's operations on the same doubles (`pi` is the double nearest
+ * pi in both), but muParser's bytecode may fold or reorder a constant (x / 0.4
+ * as x * 2.5): a result or a sine's argument may move by an ulp or two.
+ * Tolerance: 4 DBL_EPSILON * `scale`, with scale = max |v| for the rotation
+ * (a product of exact-rounded terms) and amplitude * (largest sine argument,
+ * m pi = 2 pi) for the mode (an argument's ulp passes through sin with slope
+ * at most 1, times the other factor, at most 1). */
+static void check_expression_matches(test_counts *c, const char *scene_path, const char *what,
+                                     const char *const *overrides, int noverrides,
+                                     const char *const *expression_overrides, int nexpr,
+                                     double scale_floor) {
+    sph_scene builtin, expr;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&builtin, scene_path, overrides, noverrides, &err);
+    CHECK(c, st == SPH_OK, "%s: load built-in: %s", what, err.msg);
+    if (st != SPH_OK) return;
+    const char *all[8];
+    int nall = 0;
+    for (int k = 0; k < noverrides; k++) all[nall++] = overrides[k];
+    for (int k = 0; k < nexpr; k++) all[nall++] = expression_overrides[k];
+    st = sph_scene_load(&expr, scene_path, all, nall, &err);
+    CHECK(c, st == SPH_OK, "%s: load expression: %s", what, err.msg);
+    if (st != SPH_OK) {
+        sph_scene_free(&builtin);
+        return;
+    }
+    CHECK(c, expr.bodies[0].velocity.type == SPH_VELOCITY_EXPRESSION, "%s: expression type", what);
+    sph_particles pb, pe;
+    st = sph_particles_generate(&builtin, &pb, &err);
+    CHECK(c, st == SPH_OK, "%s: generate built-in: %s", what, err.msg);
+    if (st == SPH_OK) {
+        st = sph_particles_generate(&expr, &pe, &err);
+        CHECK(c, st == SPH_OK, "%s: generate expression: %s", what, err.msg);
+        if (st == SPH_OK) {
+            CHECK(c, pe.n == pb.n && pe.n > 0, "%s: same particles (%d, %d)", what, pe.n, pb.n);
+            if (pe.n == pb.n) {
+                double diff, scale;
+                velocity_difference(&pe, &pb, &diff, &scale);
+                CHECK(c, scale > 0.0 && diff <= 4.0 * DBL_EPSILON * fmax(scale, scale_floor),
+                      "%s: max |v_expression - v_built-in| = %.3g, max |v| = %.17g", what, diff,
+                      scale);
+                printf("%s: %d particles, max |v_expression - v_built-in| = %.3g (max |v| "
+                       "%.6g)\n",
+                       what, pe.n, diff, scale);
+            }
+            sph_particles_free(&pe);
+        }
+        sph_particles_free(&pb);
+    }
+    sph_scene_free(&expr);
+    sph_scene_free(&builtin);
+}
+
+static void test_expression_velocity(test_counts *c) {
+    char path[1024];
+    /* cases/spinning_plate_2d: rigid_rotation, omega = 50, centre (0, 0) */
+    test_repo_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
+    const char *const rotation[] = {
+        "constants={ w = 50.0; cx = 0.0; cy = 0.0; }",
+        "bodies.plate.initial_velocity={ type = \"expression\"; x = \"-w * (y - cy)\"; "
+        "y = \"w * (x - cx)\"; }"};
+    check_expression_matches(c, path, "spinning plate, rigid rotation", NULL, 0, rotation, 2, 0.0);
+    /* cases/oscillating_plate_3d at dp = 0.02: plate_mode, amplitude 1,
+     * lower (0, 0), size (0.4, 0.4), modes (2, 2), axis z */
+    test_repo_path("cases/oscillating_plate_3d/scene.cfg", path, sizeof path);
+    const char *const coarse[] = {"resolution.dp=0.02"};
+    const char *const mode[] = {
+        "bodies.plate.initial_velocity={ type = \"expression\"; z = \"1.0 * sin(2 * pi * (x - "
+        "0.0) / 0.4) * sin(2 * _pi * (y - 0.0) / 0.4)\"; }"};
+    check_expression_matches(c, path, "3D plate, mode (2, 2)", coarse, 1, mode, 1,
+                             1.0 * 2.0 * 3.14159265358979323846);
+
+    /* a value that is not finite at a particle names the key and the particle */
+    test_repo_path("cases/spinning_plate_2d/scene.cfg", path, sizeof path);
+    const char *const pole[] = {"bodies.plate.initial_velocity={ type = \"expression\"; "
+                                "x = \"x > 0.4 && y > 0.4 ? 1 / (x - x) : 0\"; }"};
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st = sph_scene_load(&s, path, pole, 1, &err);
+    CHECK(c, st == SPH_OK, "pole: load: %s", err.msg);
+    if (st != SPH_OK) return;
+    sph_particles p;
+    st = sph_particles_generate(&s, &p, &err);
+    CHECK(c,
+          st == SPH_ERR_INPUT &&
+              strstr(err.msg, "bodies.plate.initial_velocity.x: the "
+                              "expression \"x > 0.4") &&
+              strstr(err.msg, "gives inf at the particle at (0.425, 0.425)"),
+          "pole: %s", err.msg);
+    if (st == SPH_OK) sph_particles_free(&p);
+    sph_scene_free(&s);
+}
+
 int main(void) {
     test_counts c = {0, 0};
     if (test_scene_dir_open(&tmp, "test_particles") != 0) return 2;
@@ -410,6 +522,7 @@ int main(void) {
     test_two_bodies(&c);
     test_velocity_fields(&c);
     test_rings(&c);
+    test_expression_velocity(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_particles", &c);
 }

@@ -589,6 +589,48 @@ static const bad_row BAD[] = {
      "%F:7: materials.steel.poisson_ratio: must be in [0, 0.5), got 4.29497e+09"},
     {"--set a list index beyond 32 bits", NULL, NULL, "bodies.[4294967296].material=steel",
      "--set bodies.[4294967296].material=steel: bodies.[4294967296]: no such setting"},
+    /* initial fields as expressions (host/expression.c) */
+    {"expression: syntax error", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; x = \"sin(\"; };", NULL,
+     "%F:13: bodies.a.initial_velocity.x: the expression \"sin(\": Unexpected end of "
+     "expression"},
+    {"expression: unknown variable", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; y = \"2 * q\"; };", NULL,
+     "%F:13: bodies.a.initial_velocity.y: the expression \"2 * q\": unknown variable 'q' "
+     "(variables: x, y)"},
+    {"expression: z in 2D", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; x = \"z\"; };", NULL,
+     "%F:13: bodies.a.initial_velocity.x: the expression \"z\": unknown variable 'z'"},
+    {"expression: a z component in 2D", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; z = \"1\"; };", NULL,
+     "%F:13: bodies.a.initial_velocity.z: unknown key 'z' (valid keys here: type, x, y)"},
+    {"expression: assignment", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; x = \"x = 3\"; };", NULL,
+     "%F:13: bodies.a.initial_velocity.x: the expression \"x = 3\": '=' at position 2: "
+     "assignments are not allowed"},
+    {"expression: two results", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; x = \"x, y\"; };", NULL,
+     "the expression \"x, y\": the expression has 2 comma-separated results"},
+    {"expression: empty", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; x = \"\"; };", NULL,
+     "%F:13: bodies.a.initial_velocity.x: the expression \"\": the expression is empty"},
+    {"expression: a control character", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; x = \"1\\t+ x\"; };", NULL,
+     "%F:13: bodies.a.initial_velocity.x: the expression \"1\\x09+ x\": byte \\x09 at position 1"},
+    {"expression: a number", "shape = \"block\";",
+     "shape = \"block\"; initial_velocity = { type = \"expression\"; x = 1.0; };", NULL,
+     "%F:13: bodies.a.initial_velocity.x: expected a string, got a number"},
+    {"constants: a variable's name", "dimension = 2;", "dimension = 2; constants = { y = 1.0; };",
+     NULL, "%F:2: constants.y: 'y' is a variable of the expressions, not a constant"},
+    {"constants: a function's name", "dimension = 2;", "dimension = 2; constants = { sin = 1.0; };",
+     NULL, "%F:2: constants.sin: 'sin' is a function or constant of the expressions already"},
+    {"constants: pi", "dimension = 2;", "dimension = 2; constants = { pi = 3.0; };", NULL,
+     "%F:2: constants.pi: 'pi' is a function or constant of the expressions already"},
+    {"constants: a '-' in the name", "dimension = 2;",
+     "dimension = 2; constants = { u-max = 1.0; };", NULL,
+     "%F:2: constants.u-max: a constant's name is a letter, then letters, digits or '_'"},
+    {"constants: a string", "dimension = 2;", "dimension = 2; constants = { U = \"1\"; };", NULL,
+     "%F:2: constants.U: expected a number, got a string"},
 };
 
 /* Replace the first `find` in `text` by `replace`. */
@@ -884,6 +926,63 @@ static void test_names(test_counts *c) {
     CHECK(c, strcmp(sph_stepping_name(SPH_STEPPING_SINGLE), "single") == 0, "stepping");
 }
 
+/* Initial velocities as expressions and the scene's constants: parsed,
+ * kept as text for particles.c, constants overridable with --set. */
+static void test_expressions(test_counts *c) {
+    char path[1024];
+    test_scene_write(&tmp,
+                     "dimension = 3;\n"
+                     "resolution = { dp = 0.1; };\n"
+                     "method = { formulation = \"enog-a\"; };\n"
+                     "time = { end = 1.0; output_interval = 0.1; };\n"
+                     "constants = { U = 2.0; k_1 = 3; };\n"
+                     "materials = { m = { density = 1000.0; youngs_modulus = 1.0e6; "
+                     "poisson_ratio = 0.3; }; };\n"
+                     "shapes = { b = { type = \"box\"; lower = [0.0, 0.0, 0.0]; "
+                     "upper = [1.0, 1.0, 1.0]; }; };\n"
+                     "bodies = ( { name = \"a\"; material = \"m\"; shape = \"b\";\n"
+                     "  initial_velocity = { type = \"expression\";\n"
+                     "    x = \"x <= 0.5 ? U : U * cos(k_1 * pi * z)\"; z = \"x * y * z\"; }; "
+                     "} );\n",
+                     path, sizeof path);
+    sph_scene s;
+    sph_error err = {0};
+    const char *const ov[] = {"constants.U=5.0"};
+    sph_status st = sph_scene_load(&s, path, ov, 1, &err);
+    CHECK(c, st == SPH_OK, "expression scene: %s", err.msg);
+    if (st != SPH_OK) return;
+    const sph_velocity_field *v = &s.bodies[0].velocity;
+    CHECK(c, v->type == SPH_VELOCITY_EXPRESSION, "type expression");
+    CHECK(c,
+          strcmp(v->expression[0], "x <= 0.5 ? U : U * cos(k_1 * pi * z)") == 0 &&
+              v->expression[1][0] == '\0' && strcmp(v->expression[2], "x * y * z") == 0,
+          "texts '%s' '%s' '%s'", v->expression[0], v->expression[1], v->expression[2]);
+    CHECK(c, strstr(v->expression_where[2], ":10: bodies.a.initial_velocity.z") != NULL,
+          "where '%s'", v->expression_where[2]);
+    CHECK(c,
+          s.nconstants == 2 && strcmp(s.constant_name[0], "U") == 0 && s.constant_value[0] == 5.0 &&
+              strcmp(s.constant_name[1], "k_1") == 0 && s.constant_value[1] == 3.0,
+          "constants (override applied)");
+    /* the module evaluates them: U cos(3 pi z) at (0.75, 0, 1/3) = 5 cos(pi) */
+    const char *vars[3], *names[SPH_SCENE_MAX_CONSTANTS];
+    const int nvars = sph_scene_expression_variables(3, vars);
+    const sph_expression_constants k = sph_scene_expression_constants(&s, names);
+    sph_expression *e = NULL;
+    char why[256];
+    CHECK(c, sph_expression_compile(v->expression[0], vars, nvars, &k, &e, why, sizeof why),
+          "compile: %s", why);
+    double r = 0.0;
+    const double at[3] = {0.75, 0.0, 1.0 / 3.0}, before[3] = {0.5, 0.0, 0.0};
+    if (e) {
+        CHECK(c, sph_expression_eval(e, at, &r, why, sizeof why) && fabs(r + 5.0) < 1e-14,
+              "U cos(k_1 pi z) = %.17g", r);
+        CHECK(c, sph_expression_eval(e, before, &r, why, sizeof why) && r == 5.0,
+              "x <= 0.5 branch: %.17g", r);
+    }
+    sph_expression_free(e);
+    sph_scene_free(&s);
+}
+
 int main(void) {
     test_counts c = {0, 0};
     if (test_scene_dir_open(&tmp, "test_scene") != 0) return 2;
@@ -897,6 +996,7 @@ int main(void) {
     test_round_shapes(&c);
     test_wide_integers(&c);
     test_names(&c);
+    test_expressions(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_scene", &c);
 }
