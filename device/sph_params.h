@@ -76,7 +76,8 @@
     X(S, T, CONSTRAINTS, constraints, SPH_MAX_CONSTRAINTS, "the constraint table")                 \
     X(S, T, INTS, body_count, SPH_MAX_BODIES, "particles per body")                                \
     X(S, T, INT, nwalls, 1, "rows of the wall table in use")                                       \
-    X(S, T, INT, kernel, 1, "native backend: KERNEL_*")                                            \
+    X(S, T, INT, smoothing_kernel, 1,                                                              \
+      "native backend: KERNEL_* (not `kernel`, an OpenCL keyword)")                                \
     X(S, T, INT, rotation, 1, "native backend: ROTATION_*")                                        \
     X(S, T, INT, nbodies, 1, "native backend: number of bodies")                                   \
     X(S, T, INT, plastic, 1, "native backend: 1 for J2 plasticity")                                \

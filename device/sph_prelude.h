@@ -140,7 +140,7 @@ typedef float real;
  * plasticity switch and torque projection: their values are run parameters
  * of the block (sph_params.h). */
 #    define RUNTIME_ROTATION (prm->rotation)
-#    define RUNTIME_KERNEL   (prm->kernel)
+#    define RUNTIME_KERNEL   (prm->smoothing_kernel)
 #    define RUNTIME_NBODIES  (prm->nbodies)
 /* each native instance is compiled for one formulation (CMakeLists.txt) */
 #    ifndef SPH_CPU_FORMULATION

@@ -146,7 +146,7 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
             prm->walls[w].normal[a] = scene->walls[w].normal[a];
         }
     /* the native backend's run-time selections (sph_params.h) */
-    prm->kernel = (int)f->kernel;
+    prm->smoothing_kernel = (int)f->kernel;
     prm->rotation = (int)f->rotation;
     prm->nbodies = f->nbodies;
     prm->plastic = f->plastic ? 1 : 0;

@@ -413,7 +413,7 @@ static sph_status measure(ks_result *r, double exclude, sph_error *err) {
     memset(prm, 0, sizeof *prm);
     prm->h = r->h;
     prm->cutoff = 2.0 * r->h;
-    prm->kernel = (int)r->c.kernel;
+    prm->smoothing_kernel = (int)r->c.kernel;
     prm->dp = r->dp;
     /* the kernel of the physics source (device/sph_smoothing_kernel.h) */
     const cpu_kernels *k = cpu_kernels_for(2, true);

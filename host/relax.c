@@ -54,7 +54,7 @@ static void kernel_prm(sph_kernel kernel, double h, sph_params_f64 prm[1]) {
     memset(prm, 0, sizeof *prm);
     prm->h = h;
     prm->cutoff = 2.0 * h;
-    prm->kernel = (int)kernel;
+    prm->smoothing_kernel = (int)kernel;
 }
 
 void sph_kernel_half_space_init(int dim, sph_kernel kernel, double h, sph_kernel_half_space *t) {

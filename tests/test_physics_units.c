@@ -24,7 +24,7 @@
 #endif
 
 /* The four smoothing kernels of device/sph_smoothing_kernel.h, selected by
- * prm->kernel as the scene key method.kernel does. */
+ * prm->smoothing_kernel as the scene key method.kernel does. */
 static const int KERNELS[] = {KERNEL_WENDLAND_C2, KERNEL_LAGUERRE_GAUSS, KERNEL_LAGUERRE_WENDLAND,
                               KERNEL_CUBIC_BSPLINE};
 static const char *const KERNEL_LABELS[] = {"wendland-c2", "laguerre-gauss", "laguerre-wendland",
@@ -140,7 +140,7 @@ static void check_kernels(test_counts *t) {
         for (int dim = 2; dim <= 3; ++dim) {
             sph_params_f64 prm[1];
             test_params(prm, dim, 1.0, 1.0);
-            prm->kernel = kernel;
+            prm->smoothing_kernel = kernel;
             const double h = prm->h, dp = prm->dp;
             const double exact = exact_integral(kernel, dim);
             const bool lg = kernel == KERNEL_LAGUERRE_GAUSS;
@@ -415,7 +415,7 @@ static void check_wall_plane_kernel(test_counts *t) {
         for (int dim = 2; dim <= 3; ++dim) {
             sph_params_f64 prm[1];
             test_params(prm, dim, 1.0, 1.0);
-            prm->kernel = kernels[kk];
+            prm->smoothing_kernel = kernels[kk];
             const cpu_kernels *k = cpu_kernels_for(dim, true);
             const double h = prm->h, rc = prm->cutoff;
             char what[160];

@@ -218,7 +218,7 @@ static void test_half_space(test_counts *c) {
         sph_params_f64 prm[1];
         prm->h = h;
         prm->cutoff = 2 * h;
-        prm->kernel = SPH_KERNEL_WENDLAND_C2;
+        prm->smoothing_kernel = SPH_KERNEL_WENDLAND_C2;
         const double ds[] = {0.0, 0.5 * dp, 1.0 * dp, 1.7 * dp};
         for (int q = 0; q < 4; q++) {
             const double d = ds[q], step = h / (dim == 2 ? 200.0 : 60.0);
