@@ -98,9 +98,10 @@
 #endif
 
 /* Mean rotation of body b from the summed Rodrigues matrices (003 eq. 41). */
-FN mat mean_rotation(CONSTANT real *prm, GLOBAL const real *restrict substep_sums, const int b) {
+FN mat mean_rotation(CONSTANT sph_params *prm, GLOBAL const real *restrict substep_sums,
+                     const int b) {
     mat r;
-    const real inv_count = R(1) / prm[PRM_BODY_COUNT + b];
+    const real inv_count = R(1) / prm->body_count[b];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) UNROLL for (int c = 0; c < SPH_DIM; ++c) r.m[a][c] =
         substep_sums[1 + (b * SPH_DIM + a) * SPH_DIM + c] * inv_count;
     return r;
@@ -135,7 +136,7 @@ FN void accumulate_increment(GLOBAL hreal *restrict acc, GLOBAL real *restrict d
  * update applies.  Reads positions and velocities only, so it runs
  * race-free before acoustic_pressure moves them. */
 KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
-                             CONSTANT real *prm, GLOBAL const int *restrict nbr_j,
+                             CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_j,
                              GLOBAL const int *restrict contact_count,
                              GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                              GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
@@ -150,7 +151,7 @@ KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, STEP_DT_PARA
 #endif
 
 KERNEL void acoustic_pressure(
-    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT real *prm,
+    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
     GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_DIR_PARAMS,
     GLOBAL const hreal *restrict rho, GLOBAL const real *restrict drho,
     GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
@@ -253,7 +254,7 @@ KERNEL void acoustic_pressure(
 #endif
 #if SPH_HAS_WALLS
     /* rigid walls at the half-step position (sph_wall.h) */
-    if (prm[PRM_WALL_COUNT] > R(0)) {
+    if (prm->nwalls > 0) {
         const vec v_i = vec_load(vel, n, i);
         const vec x_half = vec_axpy(hvec_load(pos, n, i), half_dt, v_i);
         a_s = vec_add(a_s, wall_acceleration(prm, x_half, v_i, p_i, vol[i] / mass[i]));
@@ -263,7 +264,7 @@ KERNEL void acoustic_pressure(
 }
 
 KERNEL void acoustic_velocity_terms(
-    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT real *prm,
+    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
     GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
     GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
     GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat, GLOBAL hreal *restrict rho,
@@ -276,9 +277,9 @@ KERNEL void acoustic_velocity_terms(
     const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
     (void)stride;
     const real half_dt = R(0.5) * dt;
-    const real z = prm[PRM_RHO0] * prm[PRM_C0];
-    const real c0 = prm[PRM_C0];
-    const real limiter_slope = prm[PRM_RIEMANN_LIMIT];
+    const real z = prm->materials[0].rho0 * prm->materials[0].c0;
+    const real c0 = prm->materials[0].c0;
+    const real limiter_slope = prm->riemann_limit;
     const vec v_i = vec_load(vel, n, i);
 
     /* The neighbour sums in SPH_PAIR_LANES lanes (sph_prelude.h): lane l
@@ -353,13 +354,13 @@ KERNEL void acoustic_velocity_terms(
     real drho_new = (real)rho_half * divergence;
 #if SPH_HAS_WALLS
     /* the rigid walls' mirror images at the new position (sph_wall.h) */
-    if (prm[PRM_WALL_COUNT] > R(0)) {
+    if (prm->nwalls > 0) {
         const real wall_rate =
             (real)rho_half * wall_divergence(prm, hvec_load(pos, n, i), v_i,
                                              half_step_pressure(prm, rho[i], drho[i], half_dt));
         /* a particle leaving the wall gives back its compression and no
          * more in one step: the free surface it becomes has p = 0 */
-        drho_new += fmax(wall_rate, fmin(R(0), (prm[PRM_RHO0] - (real)rho_half) / dt));
+        drho_new += fmax(wall_rate, fmin(R(0), (prm->materials[0].rho0 - (real)rho_half) / dt));
     }
 #endif
     rho[i] = density_advance(rho[i], drho[i], drho_new, half_dt);
@@ -368,7 +369,7 @@ KERNEL void acoustic_velocity_terms(
 
     /* L_i = -sum v_ij (x) (B_i grad W) V_j = -(sum v_ij (x) e dW V_j) B_i^T, B symmetric */
     const mat grad_v = mat_scale(mat_mul(grad_sum, sym_load(bmat, n, i)), R(-1));
-    const real shear_modulus = prm[PRM_G];
+    const real shear_modulus = prm->materials[0].shear_modulus;
     const int formulation = RUNTIME_FORMULATION;
     (void)shear_modulus; /* used by the features compiled in below */
     (void)formulation;
@@ -390,7 +391,7 @@ KERNEL void acoustic_velocity_terms(
     if (formulation == FORMULATION_OAS && PRESENT(art_stress))
         sym_store(
             art_stress, n, i,
-            artificial_stress(tau_new, eos_pressure(prm, rho[i]), (real)rho[i], prm[PRM_ART_EPS]));
+            artificial_stress(tau_new, eos_pressure(prm, rho[i]), (real)rho[i], prm->art_eps));
 #endif
 #if SPH_HAS_PENALTY
     /* GNOG(-A): L_j enters the linear velocity prediction of the pair (003 eq. 44) */
@@ -417,7 +418,7 @@ KERNEL void acoustic_velocity_terms(
          * drifts from m_i/V_i between rebuilds) the colliding rings' momentum
          * drifted by 2.8e-6 once the geometry was frozen at mid-interval. */
         const vec da =
-            vec_scale(laplacian, dt * R(2) * prm[PRM_XI_E] * shear_modulus * vol[i] / mass[i]);
+            vec_scale(laplacian, dt * R(2) * prm->xi_e * shear_modulus * vol[i] / mass[i]);
         accumulate_increment(acc_shear, DACC_ARG, n, i, da, grad_v, rotation, dt);
     }
 #endif
@@ -460,7 +461,7 @@ KERNEL void acoustic_velocity_terms(
  *   accumulated as a^ = a^ + da (GNOG), R_i a^ + da (per-particle rotation)
  *   or, averaged, Rbar (a^ + da) at the next acoustic_pressure (eq. 47). */
 KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
-                                 CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
+                                 CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
                                  GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
                                  GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
                                  GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
@@ -479,7 +480,7 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_
     const bool art = formulation == FORMULATION_OAS && PRESENT(art_stress);
     const mat art_i = art ? sym_load(art_stress, n, i) : mat_zero();
     vec art_sum = vec_zero();
-    const real inv_wdp = R(1) / prm[PRM_ART_WDP], art_n = prm[PRM_ART_N];
+    const real inv_wdp = R(1) / prm->art_wdp, art_n = prm->art_n;
 #    endif
 #    if SPH_HAS_PENALTY
     const bool penalty = FORM_HAS_PENALTY(formulation) && PRESENT(gradv);
@@ -536,7 +537,8 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_
 #    if SPH_HAS_PENALTY
     if (penalty) {
         /* 1/rho_i as V_i/m_i, as for ENOG above: momentum exact */
-        const vec da = vec_scale(pen_sum, dt * prm[PRM_XI_G] * prm[PRM_G] * inv_rho);
+        const vec da =
+            vec_scale(pen_sum, dt * prm->xi_g * prm->materials[0].shear_modulus * inv_rho);
         accumulate_increment(acc_shear, DACC_ARG, n, i, da, l_i, RUNTIME_ROTATION, dt);
     }
 #    endif

@@ -29,7 +29,7 @@
  * sph_constants.h, shared with the host. */
 #define MONITOR_NCOMP SPH_MONITOR_NCOMP(SPH_DIM)
 
-FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *prm,
+FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT sph_params *prm,
                         GLOBAL const int *nbr_count, GLOBAL const int *nbr_j,
                         GLOBAL const hreal *pos, GLOBAL const real *vel, GLOBAL const real *vol,
                         GLOBAL const real *bmat, real *c) {
@@ -44,7 +44,7 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *
     c[SPH_MONITOR_NONFINITE] = isfinite(state_sum) ? R(0) : R(1);
     const mat b_i = sym_load(bmat, n, i);
     const int count = nbr_count[i];
-    real min_r = prm[PRM_CUTOFF];
+    real min_r = prm->cutoff;
     mat grad_sum = mat_zero();
     for (int k = 0; k < count; ++k) {
         const int j = nbr_j[NBR_AT(i, k)];
@@ -71,17 +71,18 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT real *
         sum_w += w;
         sum_m2 += w * rate * rate;
     }
-    c[SPH_MONITOR_NEG_MIN_DIST] = -min_r / prm[PRM_DP];
+    c[SPH_MONITOR_NEG_MIN_DIST] = -min_r / prm->dp;
     c[SPH_MONITOR_MISMATCH] = sum_w > R(0) ? sqrt(sum_m2 / sum_w) : R(0);
     c[SPH_MONITOR_GRADV] = sqrt(mat_ddot(grad_v, grad_v));
 }
 
 #if SPH_OPENCL
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-monitor_reduce(const int n, const int cap, CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
-               GLOBAL const int *restrict nbr_j, GLOBAL const hreal *restrict pos,
-               GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
-               GLOBAL const real *restrict bmat, GLOBAL real *restrict partials) {
+monitor_reduce(const int n, const int cap, CONSTANT sph_params *prm,
+               GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+               GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
+               GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat,
+               GLOBAL real *restrict partials) {
     REDUCE_SCRATCH;
     REDUCE_PARTICLES(MONITOR_NCOMP, MONITOR_NCOMP, MONITOR_NCOMP,
                      monitor_contrib(i, n, cap, prm, nbr_count, nbr_j, pos, vel, vol, bmat, c));

@@ -250,7 +250,7 @@ KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restri
 #    endif
 #endif
 
-KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT real *prm,
+KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT sph_params *prm,
                              BUILD_POSITION_PARAMS, GLOBAL const real *restrict vol, const int gx,
                              const int gy, const int gz, GLOBAL const ulong *restrict keys,
                              GLOBAL const int *restrict cell_start,
@@ -262,7 +262,7 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT rea
     if (i >= n) return;
     const int stride = n * cap;
     (void)stride; /* the stored pair arrays */
-    const real cutoff = prm[PRM_CUTOFF];
+    const real cutoff = prm->cutoff;
     const real cutoff2 = cutoff * cutoff;
     const kernel_gradient grad_w = kernel_gradient_of(prm);
 #if !SPH_PAIR_RECOMPUTE

@@ -73,7 +73,7 @@ FN void combine_rows(const int ngroups, const int nmax, const int ncomp,
  * external acceleration: what the reference code's force array holds at the
  * start of an advection step (its density half-step resets it to the
  * dissipative force; reference notes §3.7, §4). */
-FN void rebuild_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const hreal *pos,
+FN void rebuild_contrib(const int i, const int n, CONSTANT sph_params *prm, GLOBAL const hreal *pos,
                         GLOBAL const real *vel, GLOBAL const real *mass, GLOBAL const hreal *rho,
                         GLOBAL real *vol, GLOBAL const real *acc_diss, real *c) {
     /* ContinuumVolumeUpdate of the reference: V = m / rho at each rebuild */
@@ -85,11 +85,11 @@ FN void rebuild_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL con
     }
     c[2 * SPH_DIM] = vec_dot(v, v);
     vec a = vec_load(acc_diss, n, i);
-    UNROLL for (int d = 0; d < SPH_DIM; ++d) a.c[d] += prm[PRM_GRAVITY + d];
-    c[2 * SPH_DIM + 1] = R(4) * prm[PRM_H] * sqrt(vec_dot(a, a));
+    UNROLL for (int d = 0; d < SPH_DIM; ++d) a.c[d] += prm->gravity[d];
+    c[2 * SPH_DIM + 1] = R(4) * prm->h * sqrt(vec_dot(a, a));
 }
 
-FN int substep_ncomp(CONSTANT real *prm) {
+FN int substep_ncomp(CONSTANT sph_params *prm) {
     (void)prm;
     if (RUNTIME_ROTATION != ROTATION_AVERAGED) return 1;
     const int torque = SPH_HAS_TORQUE_PROJECTION && RUNTIME_TORQUE_PROJECTION ? TORQUE_NCOMP : 0;
@@ -98,7 +98,7 @@ FN int substep_ncomp(CONSTANT real *prm) {
 /* Components: max |v|^2; then per body the summed R_i (d*d, by sum); then,
  * with the torque projection, per body the moments of
  * sph_torque_projection.h (TORQUE_NCOMP, by sum; at torque_offset). */
-FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *prm,
+FN void substep_contrib(const int i, const int n, const real dt, CONSTANT sph_params *prm,
                         GLOBAL const real *vel, GLOBAL const real *spin, GLOBAL const u8 *body,
                         GLOBAL const hreal *pos, GLOBAL const real *mass,
                         GLOBAL const hreal *acc_shear, GLOBAL const real *dacc_shear, real *c) {
@@ -128,15 +128,17 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT real *
 
 /* Components (all by sum): kinetic energy, strain energy, momentum (d),
  * angular momentum about the origin (1 in 2D, 3 in 3D). */
-FN void diagnostics_contrib(const int i, const int n, CONSTANT real *prm, GLOBAL const hreal *pos,
-                            GLOBAL const real *vel, GLOBAL const real *mass,
-                            GLOBAL const hreal *rho, GLOBAL const hreal *tau, real *c) {
+FN void diagnostics_contrib(const int i, const int n, CONSTANT sph_params *prm,
+                            GLOBAL const hreal *pos, GLOBAL const real *vel,
+                            GLOBAL const real *mass, GLOBAL const hreal *rho,
+                            GLOBAL const hreal *tau, real *c) {
     const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
     const real m = mass[i];
     c[DIAG_KINETIC] = R(0.5) * m * vec_dot(v, v);
     const real volume = (real)(m / rho[i]);
     c[DIAG_STRAIN] = volume * strain_energy_density(hsym_load(tau, n, i), eos_pressure(prm, rho[i]),
-                                                    prm[PRM_G], prm[PRM_K]);
+                                                    prm->materials[0].shear_modulus,
+                                                    prm->materials[0].bulk_modulus);
     UNROLL for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
 #if SPH_DIM == 2
     c[DIAG_ANGULAR] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
@@ -200,7 +202,7 @@ FN void group_reduce_store(__local real *scratch, const real *c, const int nmax,
 #    endif
 
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos,
+rebuild_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                GLOBAL const hreal *restrict rho, GLOBAL real *restrict vol,
                GLOBAL const real *restrict acc_diss, GLOBAL real *restrict partials) {
@@ -233,7 +235,7 @@ rebuild_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos
 #        define REDUCE_TORQUE_PARAMS
 #    endif
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce(
-    const int n, STEP_DT_PARAM, CONSTANT real *prm, GLOBAL const real *restrict vel,
+    const int n, STEP_DT_PARAM, CONSTANT sph_params *prm, GLOBAL const real *restrict vel,
     GLOBAL real *restrict partials REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS REDUCE_TORQUE_PARAMS) {
     REDUCE_SCRATCH;
     STEP_DT_BEGIN;
@@ -243,7 +245,7 @@ __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce
 }
 
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
-diagnostics_reduce(const int n, CONSTANT real *prm, GLOBAL const hreal *restrict pos,
+diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                    GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
                    GLOBAL real *restrict partials) {
@@ -304,7 +306,7 @@ substep_finalize(const int ngroups, const int ncomp, GLOBAL const real *restrict
  * does them, advances the clock and resets the counter.  The others read
  * the clock before they count, so they never see it change mid-launch. */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce_finish(
-    const int n, const int ngroups, CONSTANT real *prm, GLOBAL const real *restrict vel,
+    const int n, const int ngroups, CONSTANT sph_params *prm, GLOBAL const real *restrict vel,
     GLOBAL real *partials, GLOBAL real *restrict result, GLOBAL double *step_clock,
     volatile GLOBAL int *blocks_done REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS REDUCE_TORQUE_PARAMS) {
     if (step_clock[CLOCK_HALTED] != 0.0) return;

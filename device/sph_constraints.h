@@ -2,7 +2,7 @@
  * advances the particles (acoustic_step.cl, tl_step.cl).
  *
  * A constrained particle (fixed[i] = k + 1) follows entry k of the
- * constraint table in prm (sph_constants.h): along each axis of its mask
+ * constraint table of the parameter block (sph_params.h): along each axis of its mask
  * the velocity is the prescribed one (0: a clamp or a roller) and the
  * position advances with it, x <- x + dt v, exactly (a clamp keeps its
  * position bit for bit); along the other axes it moves with the solution.
@@ -17,14 +17,15 @@
 
 /* Along the constrained axes: the prescribed velocity, and the step dx the
  * position takes with it (dt v). */
-FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, vec *dx, vec *v_new) {
+FN void apply_constraint(CONSTANT sph_params *prm, const int fixed, const real dt, vec *dx,
+                         vec *v_new) {
     if (fixed == 0) return;
-    CONSTANT real *row = prm + PRM_CONSTRAINT + (fixed - 1) * PRM_CONSTRAINT_STRIDE;
-    const int mask = (int)row[0];
+    CONSTANT sph_params_constraint *row = &prm->constraints[fixed - 1];
+    const int mask = row->axis_mask;
     UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         if (!(mask & (1 << a))) continue;
-        v_new->c[a] = row[1 + a];
-        dx->c[a] = dt * row[1 + a];
+        v_new->c[a] = row->velocity[a];
+        dx->c[a] = dt * row->velocity[a];
     }
 }
 
@@ -34,9 +35,9 @@ FN void apply_constraint(CONSTANT real *prm, const int fixed, const real dt, vec
  * then the particle's constraint.  `fixed` is absent (0) in scenes without
  * constraints.  The position is a history field (hreal): the step is added
  * in its precision. */
-FN void verlet_advance(CONSTANT real *prm, const int n, const int i, const real dt, vec acc,
+FN void verlet_advance(CONSTANT sph_params *prm, const int n, const int i, const real dt, vec acc,
                        GLOBAL hreal *pos, GLOBAL real *vel, GLOBAL const u8 *fixed) {
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm[PRM_GRAVITY + a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm->gravity[a];
     const vec v_old = vec_load(vel, n, i);
     vec v_new = vec_axpy(v_old, dt, acc);
     vec dx = vec_scale(vec_add(v_old, v_new), R(0.5) * dt);

@@ -67,33 +67,33 @@
  * (sph_wall.h).  Impedance: c_Z rho0 c0 times the share of the normal
  * velocity u_n (< 0: approaching) that the interface takes up (1/2 between
  * two bodies of one material, 1 against a rigid wall). */
-FN real contact_impedance_pressure(CONSTANT real *prm, const real share, const real u_n) {
-    return u_n < R(0) ? -share * prm[PRM_CONTACT_IMPEDANCE] * prm[PRM_RHO0] * prm[PRM_C0] * u_n
+FN real contact_impedance_pressure(CONSTANT sph_params *prm, const real share, const real u_n) {
+    return u_n < R(0) ? -share * prm->contact_impedance * prm->materials[0].rho0 *
+                            prm->materials[0].c0 * u_n
                       : R(0);
 }
 /* Penalty: c_K K (1 - gap / reach)^2 once the gap is below its reach. */
-FN real contact_penalty_pressure(CONSTANT real *prm, const real gap, const real reach) {
+FN real contact_penalty_pressure(CONSTANT sph_params *prm, const real gap, const real reach) {
     if (!(gap < reach)) return R(0);
     const real overlap = R(1) - gap / reach;
-    return prm[PRM_CONTACT_PENALTY] * prm[PRM_K] * overlap * overlap;
+    return prm->contact_penalty * prm->materials[0].bulk_modulus * overlap * overlap;
 }
 
 /* Contact pressure p_ij of a pair at distance r approaching at -u. */
-FN real contact_pair_pressure(CONSTANT real *prm, const real r, const real u) {
-    return contact_impedance_pressure(prm, R(0.5), u) +
-           contact_penalty_pressure(prm, r, prm[PRM_DP]);
+FN real contact_pair_pressure(CONSTANT sph_params *prm, const real r, const real u) {
+    return contact_impedance_pressure(prm, R(0.5), u) + contact_penalty_pressure(prm, r, prm->dp);
 }
 
 #if SPH_HAS_CONTACT
 /* Contact acceleration of particle i: its contact neighbours fill the top
  * of its neighbour row, slots cap - 1, cap - 2, ... (neighbour_build.cl). */
 FN vec contact_acceleration(const int i, const int n, const int cap, const real half_dt,
-                            CONSTANT real *prm, GLOBAL const int *restrict nbr_j,
+                            CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_j,
                             GLOBAL const int *restrict contact_count,
                             GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                             GLOBAL const real *restrict mass, GLOBAL const real *restrict vol) {
     const vec v_i = vec_load(vel, n, i);
-    const real cutoff = prm[PRM_CUTOFF];
+    const real cutoff = prm->cutoff;
     vec sum = vec_zero();
     const int count = contact_count[i];
     for (int k = 0; k < count; ++k) {

@@ -51,7 +51,8 @@ typedef struct {
 
 /* The same arithmetic as build_neighbours on the same stored positions: the
  * bits it froze for the pair (r > 0 there: coincident pairs are not listed). */
-FN pair_geometry pair_geometry_recomputed(CONSTANT real *prm, GLOBAL const hreal *restrict pair_pos,
+FN pair_geometry pair_geometry_recomputed(CONSTANT sph_params *prm,
+                                          GLOBAL const hreal *restrict pair_pos,
                                           GLOBAL const real *restrict vol, const int n, const int i,
                                           const int j) {
     pair_geometry g;

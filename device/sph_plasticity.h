@@ -30,10 +30,11 @@
 /* Return the trial deviatoric stress to the yield surface.  *alpha is the
  * hardening variable (updated); the result's *ratio is the scaling applied
  * (1 while elastic), which also scales the GNOG penalty (notes §3.3). */
-FN mat j2_radial_return(const mat trial, CONSTANT real *prm, GLOBAL real *alpha, const int i,
+FN mat j2_radial_return(const mat trial, CONSTANT sph_params *prm, GLOBAL real *alpha, const int i,
                         real *ratio) {
     const real norm = sqrt(mat_ddot(trial, trial)); /* sqrt(2 J2) */
-    const real kappa = prm[PRM_HARDENING], yield = prm[PRM_YIELD], g = prm[PRM_G];
+    const real kappa = prm->materials[0].hardening, yield = prm->materials[0].yield,
+               g = prm->materials[0].shear_modulus;
     const real sqrt23 = sqrt(R(2) / R(3));
     const real f = norm - sqrt23 * (kappa * alpha[i] + yield);
     *ratio = R(1);
@@ -50,10 +51,10 @@ FN mat j2_radial_return(const mat trial, CONSTANT real *prm, GLOBAL real *alpha,
  * (elastic); *ratio receives the return ratio (1 while elastic).  Returns
  * the new stress. */
 FN_HOT mat shear_stress_advance(GLOBAL hreal *tau, const int n, const int i, const mat grad_v,
-                                CONSTANT real *prm, const real dt, GLOBAL real *alpha,
+                                CONSTANT sph_params *prm, const real dt, GLOBAL real *alpha,
                                 real *ratio) {
     const mat tau_old = hsym_load(tau, n, i);
-    const mat increment = jaumann_increment(tau_old, grad_v, prm[PRM_G], dt);
+    const mat increment = jaumann_increment(tau_old, grad_v, prm->materials[0].shear_modulus, dt);
     hsym_add_store(tau, n, i, increment);
     mat tau_new = mat_add(tau_old, increment);
     *ratio = R(1);
@@ -122,10 +123,10 @@ typedef struct {
  * at every plastic step added a few ulp per step, systematically (the same
  * rotations each step), 2.6e-13 after 600 steps in 3D
  * (tests/test_plasticity.c). */
-FN mat tl_j2_kirchhoff(const mat f, tl_plastic_state *st, CONSTANT real *prm, real *tau_zz,
+FN mat tl_j2_kirchhoff(const mat f, tl_plastic_state *st, CONSTANT sph_params *prm, real *tau_zz,
                        int *yielded) {
-    const real lame = prm[PRM_LAMBDA], mu = prm[PRM_G];
-    const real kappa = prm[PRM_HARDENING], yield = prm[PRM_YIELD];
+    const real lame = prm->materials[0].lambda, mu = prm->materials[0].shear_modulus;
+    const real kappa = prm->materials[0].hardening, yield = prm->materials[0].yield;
     /* (1) b_e^tr = F F^T + F (C_p^-1 - I) F^T, (2) */
     const mat ft = mat_transpose(f);
     mat be = mat_add(mat_mul(f, ft), mat_mul(mat_mul(f, st->cpinv_dev), ft));

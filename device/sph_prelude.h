@@ -41,7 +41,7 @@
 #ifndef SPH_PRELUDE_H
 #define SPH_PRELUDE_H
 
-#include "sph_constants.h"
+#include "sph_params.h"
 
 #ifndef SPH_MIXED
 #    define SPH_MIXED 0
@@ -136,17 +136,19 @@ typedef float real;
 /* The CPU backend compiles every feature in (the formulation aside) and
  * passes NULL for the buffers a scene does not have. */
 #    define PRESENT(p)       ((p) != 0)
-#    define RUNTIME_ROTATION ((int)prm[PRM_ROTATION])
-#    define RUNTIME_KERNEL   ((int)prm[PRM_KERNEL])
-#    define RUNTIME_NBODIES  ((int)prm[PRM_NBODIES])
+/* One native variant serves every kernel, rotation mode, body count,
+ * plasticity switch and torque projection: their values are run parameters
+ * of the block (sph_params.h). */
+#    define RUNTIME_ROTATION (prm->rotation)
+#    define RUNTIME_KERNEL   (prm->smoothing_kernel)
+#    define RUNTIME_NBODIES  (prm->nbodies)
 /* each native instance is compiled for one formulation (CMakeLists.txt) */
-#    ifdef SPH_CPU_FORMULATION
-#        define RUNTIME_FORMULATION SPH_CPU_FORMULATION
-#    else
-#        define RUNTIME_FORMULATION ((int)prm[PRM_FORMULATION])
+#    ifndef SPH_CPU_FORMULATION
+#        error "the native backend compiles each variant for one SPH_CPU_FORMULATION"
 #    endif
-#    define RUNTIME_PLASTIC           ((int)prm[PRM_PLASTIC])
-#    define RUNTIME_TORQUE_PROJECTION ((int)prm[PRM_TORQUE_PROJECTION])
+#    define RUNTIME_FORMULATION       SPH_CPU_FORMULATION
+#    define RUNTIME_PLASTIC           (prm->plastic)
+#    define RUNTIME_TORQUE_PROJECTION (prm->torque_projection)
 #    define SPH_HAS_ROTATION_AVG      1
 #    define SPH_HAS_BODY_IDS          1
 #    define SPH_HAS_ENOG              1

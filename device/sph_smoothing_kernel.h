@@ -2,7 +2,7 @@
  *
  * Convention (reference notes §5): q = r/h, W = alpha_d f(q),
  * dW/dr = alpha_d f'(q) / h, support 2h for every kernel (the host sets the
- * neighbour cut-off prm[PRM_CUTOFF] = 2h whatever the kernel).  The papers
+ * neighbour cut-off prm->cutoff = 2h whatever the kernel).  The papers
  * (000, 003) use the Wendland C2 kernel with h = 1.3 dp, cut-off 2.6 dp;
  * 004 adds the truncated Laguerre-Gauss and Laguerre-Wendland kernels.
  * Selected per scene by method.kernel (KERNEL_*, RUNTIME_KERNEL): a
@@ -131,8 +131,8 @@ FN real cubic_bspline_df(const real q) {
     return R(-0.75) * t * t;
 }
 
-FN real kernel_w(CONSTANT real *prm, const real r) {
-    const real h = prm[PRM_H];
+FN real kernel_w(CONSTANT sph_params *prm, const real r) {
+    const real h = prm->h;
     (void)prm;
     switch (RUNTIME_KERNEL) {
     case KERNEL_LAGUERRE_GAUSS:
@@ -159,9 +159,9 @@ typedef struct {
     int kind;   /* KERNEL_* (RUNTIME_KERNEL: a constant in OpenCL) */
 } kernel_gradient;
 
-FN kernel_gradient kernel_gradient_of(CONSTANT real *prm) {
+FN kernel_gradient kernel_gradient_of(CONSTANT sph_params *prm) {
     kernel_gradient g;
-    g.h = prm[PRM_H];
+    g.h = prm->h;
     g.kind = RUNTIME_KERNEL;
     switch (g.kind) {
     case KERNEL_LAGUERRE_GAUSS:
@@ -198,7 +198,7 @@ FN real kernel_dw_at(const kernel_gradient g, const real r) {
 }
 
 /* dW/dr for one pair */
-FN real kernel_dw(CONSTANT real *prm, const real r) {
+FN real kernel_dw(CONSTANT sph_params *prm, const real r) {
     return kernel_dw_at(kernel_gradient_of(prm), r);
 }
 

@@ -50,7 +50,7 @@ typedef char torque_ncomp_matches_host[TORQUE_NCOMP == SPH_TORQUE_NCOMP(SPH_DIM)
 
 /* Where body b's moments start in the substep sums: after max |v|^2 and
  * the bodies' summed Rodrigues matrices (reduction.cl, substep_contrib). */
-FN int torque_offset(CONSTANT real *prm, const int b) {
+FN int torque_offset(CONSTANT sph_params *prm, const int b) {
     (void)prm;
     return 1 + RUNTIME_NBODIES * SPH_DIM * SPH_DIM + b * TORQUE_NCOMP;
 }

@@ -81,8 +81,8 @@ FN real wall_gl_weight(const int k) {
 }
 
 /* Sigma(d): the kernel integrated over a plane at the distance d >= 0. */
-FN real wall_plane_kernel(CONSTANT real *prm, const real d) {
-    const real cutoff = prm[PRM_CUTOFF];
+FN real wall_plane_kernel(CONSTANT sph_params *prm, const real d) {
+    const real cutoff = prm->cutoff;
     if (d >= cutoff) return R(0);
 #if SPH_DIM == 2
     /* 2 int_0^S W(sqrt(d^2 + s^2)) ds, s = S (1 + x) / 2 */
@@ -109,28 +109,28 @@ FN real wall_plane_kernel(CONSTANT real *prm, const real d) {
 
 /* Wall pressure p_w of a particle at the signed distance d, moving at v_n
  * along the wall's normal, with the pressure p_i. */
-FN real wall_pressure(CONSTANT real *prm, const real d, const real v_n, const real p_i) {
+FN real wall_pressure(CONSTANT sph_params *prm, const real d, const real v_n, const real p_i) {
     /* the penalty's reach is half a spacing: the wall is the mirror plane
      * of a pair */
     return fmax(p_i, R(0)) + contact_impedance_pressure(prm, R(1), v_n) +
-           contact_penalty_pressure(prm, d, R(0.5) * prm[PRM_DP]);
+           contact_penalty_pressure(prm, d, R(0.5) * prm->dp);
 }
 
 /* Acceleration of a particle at x (the half-step position) moving at v,
  * with pressure p and volume over mass vm, from every wall of the scene. */
-FN vec wall_acceleration(CONSTANT real *prm, const vec x, const vec v, const real p,
+FN vec wall_acceleration(CONSTANT sph_params *prm, const vec x, const vec v, const real p,
                          const real vm) {
     vec a = vec_zero();
-    const int count = (int)prm[PRM_WALL_COUNT];
+    const int count = prm->nwalls;
     for (int w = 0; w < count; ++w) {
-        CONSTANT real *row = prm + PRM_WALL + w * PRM_WALL_STRIDE;
+        CONSTANT sph_params_wall *wall = &prm->walls[w];
         vec normal = vec_zero();
         real d = R(0);
         UNROLL for (int c = 0; c < SPH_DIM; ++c) {
-            normal.c[c] = row[3 + c];
-            d += (x.c[c] - row[c]) * normal.c[c];
+            normal.c[c] = wall->normal[c];
+            d += (x.c[c] - wall->point[c]) * normal.c[c];
         }
-        if (d >= prm[PRM_CUTOFF]) continue;
+        if (d >= prm->cutoff) continue;
         const real p_w = wall_pressure(prm, d, vec_dot(v, normal), p);
         a = vec_axpy(a, R(2) * p_w * wall_plane_kernel(prm, fabs(d)) * vm, normal);
     }
@@ -154,17 +154,17 @@ FN vec wall_acceleration(CONSTANT real *prm, const vec x, const vec v, const rea
  * for approaching particles (a compression, whose work -2 p Sigma V v_n is
  * then <= 0): a particle in tension leaving the wall has no wall term in
  * either equation. */
-FN real wall_divergence(CONSTANT real *prm, const vec x, const vec v, const real p) {
+FN real wall_divergence(CONSTANT sph_params *prm, const vec x, const vec v, const real p) {
     real sum = R(0);
-    const int count = (int)prm[PRM_WALL_COUNT];
+    const int count = prm->nwalls;
     for (int w = 0; w < count; ++w) {
-        CONSTANT real *row = prm + PRM_WALL + w * PRM_WALL_STRIDE;
+        CONSTANT sph_params_wall *wall = &prm->walls[w];
         real d = R(0), v_n = R(0);
         UNROLL for (int c = 0; c < SPH_DIM; ++c) {
-            d += (x.c[c] - row[c]) * row[3 + c];
-            v_n += v.c[c] * row[3 + c];
+            d += (x.c[c] - wall->point[c]) * wall->normal[c];
+            v_n += v.c[c] * wall->normal[c];
         }
-        if (d >= prm[PRM_CUTOFF] || !(p > R(0) || v_n < R(0))) continue;
+        if (d >= prm->cutoff || !(p > R(0) || v_n < R(0))) continue;
         sum -= R(2) * v_n * wall_plane_kernel(prm, fabs(d));
     }
     return sum;

@@ -120,8 +120,8 @@ FN mat tl_svk_pk1(const mat f, const real lambda, const real mu) {
 }
 
 /* Young's modulus from the bulk and shear moduli of the parameter block. */
-FN real tl_youngs_modulus(CONSTANT real *prm) {
-    const real k = prm[PRM_K], g = prm[PRM_G];
+FN real tl_youngs_modulus(CONSTANT sph_params *prm) {
+    const real k = prm->materials[0].bulk_modulus, g = prm->materials[0].shear_modulus;
     return R(9) * k * g / (R(3) * k + g);
 }
 
@@ -153,17 +153,21 @@ FN void tl_plastic_store(GLOBAL real *restrict plastic_strain, GLOBAL real *rest
 
 /* 002 plasticity switch: the modulus of a particle in the hourglass force,
  * E while it has not yielded, then its current yield stress. */
-FN real tl_hourglass_modulus(CONSTANT real *prm, const real plastic_strain, const real youngs) {
-    return plastic_strain > R(0) ? prm[PRM_YIELD] + prm[PRM_HARDENING] * plastic_strain : youngs;
+FN real tl_hourglass_modulus(CONSTANT sph_params *prm, const real plastic_strain,
+                             const real youngs) {
+    return plastic_strain > R(0)
+               ? prm->materials[0].yield + prm->materials[0].hardening * plastic_strain
+               : youngs;
 }
 #    endif
 
-KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT real *prm,
-                           GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
-                           GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-                           GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
-                           GLOBAL const real *restrict bmat, GLOBAL real *restrict defgrad,
-                           GLOBAL real *restrict pk1, GLOBAL hreal *restrict rho,
+KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
+                           CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
+                           GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
+                           GLOBAL const real *restrict pair_dwv, GLOBAL const hreal *restrict pos,
+                           GLOBAL const real *restrict vel, GLOBAL const real *restrict bmat,
+                           GLOBAL real *restrict defgrad, GLOBAL real *restrict pk1,
+                           GLOBAL hreal *restrict rho,
                            GLOBAL hreal *restrict tau TL_PLASTIC_STATE_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
@@ -197,7 +201,7 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
     } else
 #    endif
     {
-        p = tl_svk_pk1(f, prm[PRM_LAMBDA], prm[PRM_G]);
+        p = tl_svk_pk1(f, prm->materials[0].lambda, prm->materials[0].shear_modulus);
         sigma = mat_scale(mat_mul(p, mat_transpose(f)), R(1) / det);
     }
     mat_store(defgrad, n, i, f);
@@ -210,14 +214,14 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
      * diagnostic V (tau:tau/4G + p^2/2K) is the SVK energy to second order
      * (for a plastic material the same small-strain, in-plane estimate of
      * the stored elastic energy: the plastic work is not in it). */
-    rho[i] = prm[PRM_RHO0] / det;
+    rho[i] = prm->materials[0].rho0 / det;
     const real mean = mat_trace(sigma) / R(SPH_DIM);
     UNROLL for (int a = 0; a < SPH_DIM; ++a) sigma.m[a][a] -= mean;
     hsym_store(tau, n, i, sigma);
 }
 
 KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
-                            CONSTANT real *prm, GLOBAL const int *restrict nbr_count,
+                            CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
                             GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
                             GLOBAL const real *restrict pair_dwv,
                             GLOBAL const real *restrict pair_inv_r,
@@ -232,7 +236,7 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM
     const int stride = n * cap;
     const real half_dt = R(0.5) * dt;
     const mat f_i = mat_load(defgrad, n, i);
-    const real alpha = prm[PRM_HOURGLASS];
+    const real alpha = prm->hourglass;
     const real youngs = tl_youngs_modulus(prm);
 #    if SPH_HAS_TL_PLASTICITY
     /* the plasticity switch: per-particle moduli inside the pair term */
@@ -290,7 +294,7 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM
     hvec_store(acc_shear, n, i, acc);
 }
 
-KERNEL void tl_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT real *prm,
+KERNEL void tl_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
                       GLOBAL const hreal *restrict acc_shear, GLOBAL hreal *restrict pos,
                       GLOBAL real *restrict vel TL_CLAMP_PARAMS) {
     STEP_DT_BEGIN;

@@ -8,8 +8,7 @@
 #include "opencl_runtime.h"
 
 sph_status sph_backend_create(const sph_backend_request *req, const sph_features *f,
-                              const double prm[PRM_COUNT], int n, sph_backend **out,
-                              sph_error *err) {
+                              const sph_params_f64 *prm, int n, sph_backend **out, sph_error *err) {
     *out = NULL;
     if (req->kind == SPH_BACKEND_CPU) {
         sph_status st = sph_backend_cpu_create(req, f, prm, n, out, err);

@@ -152,8 +152,7 @@ struct sph_backend {
 
 /* Choose and create a backend for `n` particles of feature set `f`. */
 sph_status sph_backend_create(const sph_backend_request *req, const sph_features *f,
-                              const double prm[PRM_COUNT], int n, sph_backend **out,
-                              sph_error *err);
+                              const sph_params_f64 *prm, int n, sph_backend **out, sph_error *err);
 void sph_backend_destroy(sph_backend *be);
 
 /* Acoustic substeps under the step clock `clock` (SPH_CLOCK_LEN doubles,
@@ -167,10 +166,10 @@ sph_status sph_backend_advance_by_substeps(sph_backend *be, double *clock, long 
 /* Backend constructors (backend_cpu.c, backend_opencl.c); the OpenCL one
  * takes the device index itself (the request's may be -1). */
 sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_features *f,
-                                  const double prm[PRM_COUNT], int n, sph_backend **out,
+                                  const sph_params_f64 *prm, int n, sph_backend **out,
                                   sph_error *err);
 sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_index,
-                                     const sph_features *f, const double prm[PRM_COUNT], int n,
+                                     const sph_features *f, const sph_params_f64 *prm, int n,
                                      sph_backend **out, sph_error *err);
 
 /* Helpers shared by the backends. */

@@ -211,7 +211,9 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     sph_rebuild_info_unpack(red, d, info);
 
     sph_grid grid;
-    const double cutoff = get_real(c, c->b.prm, PRM_CUTOFF);
+    const double cutoff = c->real_size == sizeof(float)
+                              ? (double)((const sph_params_f32 *)c->b.prm)->cutoff
+                              : ((const sph_params_f64 *)c->b.prm)->cutoff;
     sph_status st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err);
     if (st) return st;
     if (grid.ncells > c->cells_allocated) {
@@ -369,7 +371,7 @@ static const sph_backend_ops cpu_ops = {
 };
 
 sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_features *f,
-                                  const double prm[PRM_COUNT], int n, sph_backend **out,
+                                  const sph_params_f64 *prm, int n, sph_backend **out,
                                   sph_error *err) {
     *out = NULL;
     const cpu_kernels *kernels = cpu_kernels_for_features(f);
@@ -405,7 +407,7 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
              f->torque_projection ? " torque_projection=1" : "");
 
     /* before allocating: what the run needs must fit in the memory */
-    const int cap0 = sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]);
+    const int cap0 = sph_initial_neighbour_capacity(f->dim, prm->cutoff / prm->dp);
     const int ngroups = (n + CPU_GROUP - 1) / CPU_GROUP;
     double fields_bytes = 0.0;
     for (int k = 0; k < FIELD_COUNT; ++k)
@@ -441,7 +443,8 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
         sph_backend_record_buffer(be, be->fields[k].name, 2 * bytes);
     }
     c->b.ngroups = ngroups;
-    c->b.prm = malloc(PRM_COUNT * c->real_size);
+    c->b.prm =
+        malloc(c->real_size == sizeof(float) ? sizeof(sph_params_f32) : sizeof(sph_params_f64));
     c->b.grid_geom = malloc(4 * c->real_size);
     c->b.partials = malloc((size_t)ngroups * (size_t)sph_partial_ncomp(f) * c->real_size);
     c->b.substep_sums = calloc(SUBSTEP_SUMS_LEN, c->real_size);
@@ -458,7 +461,11 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
                         "out of host memory for the fields of %d particles (%s); %s", n, fields_s,
                         available);
     }
-    for (int k = 0; k < PRM_COUNT; ++k) set_real(c, c->b.prm, (size_t)k, prm[k]);
+    /* the block in the run precision (sph_params.h) */
+    if (c->real_size == sizeof(float))
+        sph_params_to_f32(prm, c->b.prm);
+    else
+        memcpy(c->b.prm, prm, sizeof *prm);
     sph_status st = alloc_pairs(be, c, cap0, err);
     if (st) {
         cpu_destroy(be);

@@ -21,7 +21,7 @@ typedef struct {
     void *pair_w; /* TLSPH only: reference hourglass weights (else NULL) */
     uint64_t *keys;
     int32_t *cell_start, *cell_end;
-    void *prm;          /* real[PRM_COUNT] */
+    void *prm;          /* sph_params in the run precision */
     void *grid_geom;    /* real[4]: origin, 1/cell */
     void *partials;     /* real[ngroups * ncomp] */
     void *substep_sums; /* real[1 + SPH_MAX_BODIES * 9] */
@@ -52,14 +52,14 @@ typedef struct {
     /* the monitor's measures of particle i alone, from host copies of the
      * fields (double, field layout) and row-major neighbour lists: which
      * particle tripped a check (host/instability.c) */
-    void (*monitor_particle)(const double *prm, int n, int cap, const int32_t *nbr_count,
+    void (*monitor_particle)(const sph_params_f64 *prm, int n, int cap, const int32_t *nbr_count,
                              const int32_t *nbr_j, const double *pos, const double *vel,
                              const double *vol, const double *bmat, int i, double *out);
     /* physics probes for unit tests and observers */
-    double (*kernel_w)(const double *prm, double r);
-    double (*kernel_dw)(const double *prm, double r);
+    double (*kernel_w)(const sph_params_f64 *prm, double r);
+    double (*kernel_dw)(const sph_params_f64 *prm, double r);
     /* the kernel integrated over a plane at the distance d (sph_wall.h) */
-    double (*wall_plane_kernel)(const double *prm, double d);
+    double (*wall_plane_kernel)(const sph_params_f64 *prm, double d);
     /* Rodrigues matrix (row-major dim x dim) of spin components w over dt */
     void (*rodrigues)(const double *w, double dt, double *rot);
     /* pair terms of sph_riemann.h for states i, j (vectors of length dim) */
@@ -68,11 +68,11 @@ typedef struct {
                          double *continuity);
     /* snapshot fields from rho and tau (host arrays, tau in field layout);
      * any output may be NULL: pressure [n], von Mises [n], tau [n][6] */
-    void (*stress_output)(const double *prm, int n, const double *rho, const double *tau,
+    void (*stress_output)(const sph_params_f64 *prm, int n, const double *rho, const double *tau,
                           double *pressure, double *von_mises, double *tensor6);
     /* one substep of a material point's shear stress: Jaumann rate and, when
-     * alpha is given and prm[PRM_PLASTIC] is set, the J2 return (row-major) */
-    void (*stress_update)(const double *prm, const double *grad_v, double dt, double *tau,
+     * alpha is given and prm->plastic is set, the J2 return (row-major) */
+    void (*stress_update)(const sph_params_f64 *prm, const double *grad_v, double dt, double *tau,
                           double *alpha);
     /* artificial stress of one particle (OAS), row-major d x d */
     void (*artificial_stress)(const double *tau, double p, double rho, double epsilon, double *r);
@@ -80,7 +80,7 @@ typedef struct {
      * f row-major d x d; state = C_p^-1 (row-major d x d), (C_p^-1)_zz,
      * alpha, updated in place; tau = Kirchhoff stress (row-major d x d),
      * then tau_zz.  Returns 1 when it yielded. */
-    int (*tl_j2_update)(const double *prm, const double *f, double *state, double *tau);
+    int (*tl_j2_update)(const sph_params_f64 *prm, const double *f, double *state, double *tau);
 } cpu_kernels;
 
 /* the double or single instance of the SPH-ENOG build (physics probes: the

@@ -39,7 +39,7 @@
 
 static void rebuild_reduce_impl(cpu_buffers *b, double *out) {
     real result[REBUILD_NCOMP];
-    CONSTANT real *prm = (const real *)b->prm;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
 #pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, REBUILD_NCOMP, REBUILD_NCOMP, result,
                  rebuild_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
@@ -74,7 +74,7 @@ static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g, double geome
 #pragma omp parallel for schedule(static) if (b->parallel)
     for (int i = 0; i < n; ++i)
         build_neighbours(
-            i, n, b->cap, (const real *)b->prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+            i, n, b->cap, (const sph_params *)b->prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
             (real)geometry_shift, F_REAL(b, FIELD_VOL), g->dims[0], g->dims[1], g->dims[2],
             (const ulong *)b->keys, b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
             (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r, F_REAL(b, FIELD_BMAT),
@@ -89,7 +89,7 @@ static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g, double geome
 static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     const real dt = (real)dt_in;
     const int n = b->n, cap = b->cap;
-    CONSTANT real *prm = (const real *)b->prm;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
     real *sums = (real *)b->substep_sums;
     real *partials = (real *)b->partials;
     const int ncomp = substep_ncomp(prm);
@@ -139,7 +139,7 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     }
     const real dt = (real)dt_in;
     const int n = b->n, cap = b->cap;
-    CONSTANT real *prm = (const real *)b->prm;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
     real *sums = (real *)b->substep_sums;
     real *partials = (real *)b->partials;
     const int ncomp = substep_ncomp(prm);
@@ -203,7 +203,7 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 }
 
 static void diagnostics_impl(cpu_buffers *b, double *out) {
-    CONSTANT real *prm = (const real *)b->prm;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
     real result[DIAG_NCOMP];
 #pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
@@ -215,21 +215,26 @@ static void diagnostics_impl(cpu_buffers *b, double *out) {
 
 /* ---- physics probes ---------------------------------------------------- */
 
-static void params_to_real(const double *prm_in, real *prm_out) {
-    for (int k = 0; k < PRM_COUNT; ++k) prm_out[k] = (real)prm_in[k];
+/* the host's double block in this variant's precision */
+static void params_to_real(const sph_params_f64 *prm_in, sph_params *prm_out) {
+#if SPH_DOUBLE
+    *prm_out = *prm_in;
+#else
+    sph_params_to_f32(prm_in, prm_out);
+#endif
 }
-static double probe_kernel_w(const double *prm_in, double r) {
-    real prm[PRM_COUNT];
+static double probe_kernel_w(const sph_params_f64 *prm_in, double r) {
+    sph_params prm[1];
     params_to_real(prm_in, prm);
     return (double)kernel_w(prm, (real)r);
 }
-static double probe_kernel_dw(const double *prm_in, double r) {
-    real prm[PRM_COUNT];
+static double probe_kernel_dw(const sph_params_f64 *prm_in, double r) {
+    sph_params prm[1];
     params_to_real(prm_in, prm);
     return (double)kernel_dw(prm, (real)r);
 }
-static double probe_wall_plane_kernel(const double *prm_in, double d) {
-    real prm[PRM_COUNT];
+static double probe_wall_plane_kernel(const sph_params_f64 *prm_in, double d) {
+    sph_params prm[1];
     params_to_real(prm_in, prm);
     return (double)wall_plane_kernel(prm, (real)d);
 }
@@ -261,9 +266,9 @@ static void probe_riemann_pair(const double *v_i, const double *v_j, double p_i,
 
 /* One substep of a material point's shear stress (Jaumann + J2 return),
  * tau and grad_v row-major d x d; alpha NULL for an elastic material. */
-static void probe_stress_update(const double *prm_in, const double *grad_v_in, double dt,
+static void probe_stress_update(const sph_params_f64 *prm_in, const double *grad_v_in, double dt,
                                 double *tau_io, double *alpha_io) {
-    real prm[PRM_COUNT];
+    sph_params prm[1];
     params_to_real(prm_in, prm);
     /* the stress as the field of a one-particle set (sym_index layout) */
     hreal stored[NSYM];
@@ -296,9 +301,9 @@ static void probe_artificial_stress(const double *tau_in, double p, double rho, 
  * tl_j2_kirchhoff): f row-major d x d; state[] = C_p^-1 (row-major d x d),
  * then (C_p^-1)_zz, then alpha, updated; tau_out = the Kirchhoff stress,
  * row-major d x d, then tau_zz.  Returns 1 when the return map acted. */
-static int probe_tl_j2_update(const double *prm_in, const double *f_in, double *state,
+static int probe_tl_j2_update(const sph_params_f64 *prm_in, const double *f_in, double *state,
                               double *tau_out) {
-    real prm[PRM_COUNT];
+    sph_params prm[1];
     params_to_real(prm_in, prm);
     const int dd = SPH_DIM * SPH_DIM;
     mat f;
@@ -325,7 +330,7 @@ static int probe_tl_j2_update(const double *prm_in, const double *f_in, double *
 }
 
 static void monitor_impl(cpu_buffers *b, double *out) {
-    CONSTANT real *prm = (const real *)b->prm;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
     real result[MONITOR_NCOMP];
     const int cap = b->cap;
 #pragma omp parallel if (b->parallel)
@@ -338,10 +343,11 @@ static void monitor_impl(cpu_buffers *b, double *out) {
 
 #if SPH_DOUBLE
 /* One particle's monitor measures (the f64 instance: real is double). */
-static void monitor_particle_impl(const double *prm_in, int n, int cap, const int32_t *nbr_count,
-                                  const int32_t *nbr_j, const double *pos, const double *vel,
-                                  const double *vol, const double *bmat, int i, double *out) {
-    real prm[PRM_COUNT];
+static void monitor_particle_impl(const sph_params_f64 *prm_in, int n, int cap,
+                                  const int32_t *nbr_count, const int32_t *nbr_j, const double *pos,
+                                  const double *vel, const double *vol, const double *bmat, int i,
+                                  double *out) {
+    sph_params prm[1];
     params_to_real(prm_in, prm);
     monitor_contrib(i, n, cap, prm, nbr_count, nbr_j, pos, vel, vol, bmat, out);
 }
@@ -354,9 +360,10 @@ static void monitor_particle_impl(const double *prm_in, int n, int cap, const in
  * von Mises stress of tau - p I, and tau in VTK's symmetric-tensor order
  * (xx, yy, zz, xy, yz, xz; zero out of plane in 2D).  tau is in the field
  * layout (component-major, stride n). */
-static void stress_output_impl(const double *prm_in, int n, const double *rho, const double *tau,
-                               double *pressure, double *von_mises_out, double *tensor6) {
-    real prm[PRM_COUNT];
+static void stress_output_impl(const sph_params_f64 *prm_in, int n, const double *rho,
+                               const double *tau, double *pressure, double *von_mises_out,
+                               double *tensor6) {
+    sph_params prm[1];
     params_to_real(prm_in, prm);
     static const int vtk_a[6] = {0, 1, 2, 0, 1, 0}, vtk_b[6] = {0, 1, 2, 1, 2, 2};
     for (int i = 0; i < n; ++i) {

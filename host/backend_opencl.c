@@ -84,7 +84,7 @@ typedef struct {
     cl_mem keys_sorted; /* counting sort only */
     cl_mem blocks_done; /* substep_reduce_finish only: blocks reduced so far */
     cl_int n, npad, cap, gx, gy, gz, ngroups;
-    double cutoff;     /* 2h as the device holds it (prm[PRM_CUTOFF] in its precision) */
+    double cutoff;     /* 2h as the device holds it (prm->cutoff in its precision) */
     int substep_ncomp; /* components of the substep reduction (reduction.cl) */
     size_t real_size;
     size_t wg;      /* reductions (SPH_WG) */
@@ -321,6 +321,22 @@ static sph_status write_values(ocl_impl *o, cl_mem buf, size_t esize, const doub
 static sph_status write_reals(ocl_impl *o, cl_mem buf, const double *values, size_t count,
                               sph_error *err) {
     return write_values(o, buf, o->real_size, values, count, err);
+}
+/* The parameter block in the run precision: the bytes of the device's
+ * struct (device/sph_params.h checks that the layouts agree). */
+static size_t params_size(const ocl_impl *o) {
+    return o->real_size == sizeof(float) ? sizeof(sph_params_f32) : sizeof(sph_params_f64);
+}
+static sph_status write_params(ocl_impl *o, const sph_params_f64 *prm, sph_error *err) {
+    sph_params_f32 single;
+    const void *bytes = prm;
+    if (o->real_size == sizeof(float)) {
+        sph_params_to_f32(prm, &single);
+        bytes = &single;
+    }
+    const cl_int rc =
+        clEnqueueWriteBuffer(o->queue, o->prm, CL_TRUE, 0, params_size(o), bytes, 0, NULL, NULL);
+    return cl_check(rc, "writing the parameter block", err);
 }
 /* a whole floating-point field, in its own precision */
 static sph_status write_field(sph_backend *be, ocl_impl *o, sph_field f, const double *values,
@@ -856,7 +872,7 @@ static size_t pow2_floor(size_t x) {
 }
 
 sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_index,
-                                     const sph_features *f, const double prm[PRM_COUNT], int n,
+                                     const sph_features *f, const sph_params_f64 *prm, int n,
                                      sph_backend **out, sph_error *err) {
     const bool quiet = req->quiet;
     *out = NULL;
@@ -933,7 +949,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     o->item_wg = o->row_major ? 4 : o->wg;
     o->sort_wg = pow2_floor(o->dev.max_work_group < 1024 ? o->dev.max_work_group : 1024);
     o->n = n;
-    o->cutoff = o->real_size == sizeof(float) ? (double)(float)prm[PRM_CUTOFF] : prm[PRM_CUTOFF];
+    o->cutoff = o->real_size == sizeof(float) ? (double)(float)prm->cutoff : prm->cutoff;
     /* CPU devices sort by counting (SPH_COUNTING_SORT), GPUs by a bitonic
      * network over keys padded to a power of two */
     o->counting_sort = o->row_major;
@@ -948,8 +964,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     o->substep_ncomp = sph_substep_ncomp(f);
 
     st = check_device_memory(be, o, device_index,
-                             sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]),
-                             err);
+                             sph_initial_neighbour_capacity(f->dim, prm->cutoff / prm->dp), err);
     if (st) goto fail;
 
     cl_int rc;
@@ -987,7 +1002,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     if (!st) st = make_buffer(be, o, "keys", (size_t)o->npad * sizeof(cl_ulong), &o->keys, err);
     if (!st && o->counting_sort)
         st = make_buffer(be, o, "keys_sorted", (size_t)n * sizeof(cl_ulong), &o->keys_sorted, err);
-    if (!st) st = make_buffer(be, o, "prm", PRM_COUNT * o->real_size, &o->prm, err);
+    if (!st) st = make_buffer(be, o, "prm", params_size(o), &o->prm, err);
     if (!st) st = make_buffer(be, o, "grid_geom", 4 * o->real_size, &o->grid_geom, err);
     if (!st)
         st = make_buffer(be, o, "partials",
@@ -1008,9 +1023,8 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
                          &o->pair_pos, err);
     if (!st) st = make_buffer(be, o, "result", RESULT_LEN * o->real_size, &o->result, err);
     if (!st)
-        st = alloc_pairs(
-            be, o, sph_initial_neighbour_capacity(f->dim, prm[PRM_CUTOFF] / prm[PRM_DP]), err);
-    if (!st) st = write_reals(o, o->prm, prm, PRM_COUNT, err);
+        st = alloc_pairs(be, o, sph_initial_neighbour_capacity(f->dim, prm->cutoff / prm->dp), err);
+    if (!st) st = write_params(o, prm, err);
     if (st) goto fail;
     fill_resources(be, o);
     st = create_kernels(o, err);

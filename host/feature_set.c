@@ -53,11 +53,14 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
              "-DSPH_TORQUE_PROJECTION=%d -DSPH_WG=%d "
-             "-DSORT_WG=%d",
+             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
              f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
-             pair_recompute ? 1 : 0, f->torque_projection ? 1 : 0, reduce_wg, sort_wg);
+             pair_recompute ? 1 : 0, f->torque_projection ? 1 : 0, reduce_wg, sort_wg,
+             /* the host's size of the block, which the program checks
+              * (device/sph_params.h) */
+             f->double_precision ? sizeof(sph_params_f64) : sizeof(sph_params_f32));
 }
 
 int sph_substep_ncomp(const sph_features *f) {
@@ -74,7 +77,7 @@ int sph_partial_ncomp(const sph_features *f) {
 }
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
-                           const sph_features *f, double *prm, sph_error *err) {
+                           const sph_features *f, sph_params_f64 *prm, sph_error *err) {
     /* One material per run: pairs of different materials need the
      * multi-material Riemann states and contact of the benchmark library. */
     const int material = scene->bodies[0].material;
@@ -98,59 +101,57 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
         return sph_fail(err, SPH_ERR_INPUT, "%s: %d bodies, at most %d are supported", scene->path,
                         f->nbodies, SPH_MAX_BODIES);
     const sph_material *m = &scene->materials[material];
-    for (int k = 0; k < PRM_COUNT; ++k) prm[k] = 0.0;
+    memset(prm, 0, sizeof *prm);
     const double h = scene->smoothing_ratio * scene->dp;
-    prm[PRM_H] = h;
-    prm[PRM_CUTOFF] = 2.0 * h;
-    prm[PRM_RHO0] = m->density;
-    prm[PRM_C0] = m->sound_speed;
-    prm[PRM_G] = m->shear_modulus;
-    prm[PRM_K] = m->density * m->sound_speed * m->sound_speed;
-    prm[PRM_XI_E] = scene->xi_e;
-    for (int a = 0; a < 3; ++a) prm[PRM_GRAVITY + a] = a < scene->dim ? scene->gravity[a] : 0.0;
-    prm[PRM_ROTATION] = (double)f->rotation;
-    prm[PRM_KERNEL] = (double)f->kernel;
-    prm[PRM_RIEMANN_LIMIT] = scene->riemann_limiter_slope;
-    prm[PRM_NBODIES] = (double)f->nbodies;
-    prm[PRM_DP] = scene->dp;
-    prm[PRM_FORMULATION] = (double)f->formulation;
-    prm[PRM_PLASTIC] = f->plastic ? 1.0 : 0.0;
-    prm[PRM_TORQUE_PROJECTION] = f->torque_projection ? 1.0 : 0.0;
-    prm[PRM_XI_G] = scene->xi_g;
-    prm[PRM_YIELD] = m->yield_stress;
-    prm[PRM_HARDENING] = m->hardening_modulus;
-    prm[PRM_ART_EPS] = scene->art_epsilon;
-    prm[PRM_ART_N] = scene->art_exponent;
-    prm[PRM_ART_WDP] = 0.0; /* set by the backend from the kernel (sph_smoothing_kernel.h) */
-    prm[PRM_HOURGLASS] = scene->hourglass_alpha;
+    prm->h = h;
+    prm->cutoff = 2.0 * h;
+    prm->dp = scene->dp;
+    for (int a = 0; a < 3; ++a) prm->gravity[a] = a < scene->dim ? scene->gravity[a] : 0.0;
+    prm->xi_e = scene->xi_e;
+    prm->xi_g = scene->xi_g;
+    prm->riemann_limit = scene->riemann_limiter_slope;
+    prm->art_eps = scene->art_epsilon;
+    prm->art_n = scene->art_exponent;
+    prm->hourglass = scene->hourglass_alpha;
+    /* contact between bodies (device/sph_contact.h) */
+    prm->contact_impedance = scene->contact_impedance;
+    prm->contact_penalty = scene->contact_penalty;
+    /* the material table: every body shares entry 0 (checked above) */
+    sph_params_material_f64 *row = &prm->materials[0];
+    row->rho0 = m->density;
+    row->c0 = m->sound_speed;
+    row->shear_modulus = m->shear_modulus;
+    row->bulk_modulus = m->density * m->sound_speed * m->sound_speed;
     /* Lame's first parameter of TLSPH's Saint Venant-Kirchhoff model:
      * lambda = K - 2G/3 = E nu / ((1 + nu)(1 - 2 nu)) in 2D too (plane
      * strain, the material constants of 004 and of the reference code's
      * elastic solid).  The in-plane K - G of the updated-Lagrangian 2D model
      * makes the plate 0.6 % (nu = 0.4) to 4 % (nu = 0.22) too soft in
      * bending against 004 Table 6 (bench-results/tlsph-kernels.json). */
-    prm[PRM_LAMBDA] = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
-    /* contact between bodies (device/sph_contact.h) */
-    prm[PRM_CONTACT_IMPEDANCE] = scene->contact_impedance;
-    prm[PRM_CONTACT_PENALTY] = scene->contact_penalty;
-    for (int b = 0; b < f->nbodies; ++b) prm[PRM_BODY_COUNT + b] = (double)particles->body_count[b];
+    row->lambda = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
+    row->yield = m->yield_stress;
+    row->hardening = m->hardening_modulus;
+    for (int b = 0; b < f->nbodies; ++b) prm->body_count[b] = particles->body_count[b];
     /* the constraint table (device/sph_constraints.h) */
     for (int k = 0; k < sph_constraint_count(scene) && k < SPH_MAX_CONSTRAINTS; ++k) {
         const sph_constraint *c = sph_constraint_at(scene, k);
-        double *row = prm + PRM_CONSTRAINT + k * PRM_CONSTRAINT_STRIDE;
-        row[0] = (double)c->axis_mask;
-        for (int a = 0; a < scene->dim; ++a) row[1 + a] = c->velocity[a];
+        prm->constraints[k].axis_mask = c->axis_mask;
+        for (int a = 0; a < scene->dim; ++a) prm->constraints[k].velocity[a] = c->velocity[a];
     }
     /* the wall table (device/sph_wall.h) */
-    prm[PRM_WALL_COUNT] = (double)scene->nwalls;
-    for (int w = 0; w < scene->nwalls && w < SPH_MAX_WALLS; ++w) {
-        double *row = prm + PRM_WALL + w * PRM_WALL_STRIDE;
+    prm->nwalls = scene->nwalls;
+    for (int w = 0; w < scene->nwalls && w < SPH_MAX_WALLS; ++w)
         for (int a = 0; a < scene->dim; ++a) {
-            row[a] = scene->walls[w].point[a];
-            row[3 + a] = scene->walls[w].normal[a];
+            prm->walls[w].point[a] = scene->walls[w].point[a];
+            prm->walls[w].normal[a] = scene->walls[w].normal[a];
         }
-    }
+    /* the native backend's run-time selections (sph_params.h) */
+    prm->smoothing_kernel = (int)f->kernel;
+    prm->rotation = (int)f->rotation;
+    prm->nbodies = f->nbodies;
+    prm->plastic = f->plastic ? 1 : 0;
+    prm->torque_projection = f->torque_projection ? 1 : 0;
     /* W(dp) normalises the artificial-stress weight f = W(r)/W(dp) */
-    prm[PRM_ART_WDP] = cpu_kernels_for(f->dim, true)->kernel_w(prm, scene->dp);
+    prm->art_wdp = cpu_kernels_for(f->dim, true)->kernel_w(prm, scene->dp);
     return SPH_OK;
 }

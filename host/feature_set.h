@@ -12,6 +12,7 @@
 
 #include "particles.h"
 #include "scene.h"
+#include "sph_params.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -64,9 +65,9 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
 int sph_substep_ncomp(const sph_features *f);
 int sph_partial_ncomp(const sph_features *f);
 
-/* The scalar parameter block `prm` of the kernels (device/sph_prelude.h,
- * PRM_*), in double; backends convert to their precision. */
+/* The run-parameter block of the kernels (device/sph_params.h), in double;
+ * backends convert it to their precision. */
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
-                           const sph_features *f, double *prm, sph_error *err);
+                           const sph_features *f, sph_params_f64 *prm, sph_error *err);
 
 #endif

@@ -60,8 +60,8 @@ static sph_status find_nonfinite(sph_backend *be, host_state *h, int *slot, sph_
 
 /* The particle with the largest monitor measure `component`, evaluated by
  * the physics source (device/monitor.cl) on the host copies. */
-static sph_status find_monitor_max(sph_backend *be, const double *prm, host_state *h, int component,
-                                   int *slot, sph_error *err) {
+static sph_status find_monitor_max(sph_backend *be, const sph_params_f64 *prm, host_state *h,
+                                   int component, int *slot, sph_error *err) {
     const cpu_kernels *k = cpu_kernels_for(h->dim, true);
     h->vel = alloc_field(be, FIELD_VEL);
     h->vol = alloc_field(be, FIELD_VOL);
@@ -119,7 +119,7 @@ static void find_outside(const host_state *h, const double lower[3], const doubl
     }
 }
 
-sph_status sph_instability_locate(sph_backend *be, const double *prm, sph_trip_kind kind,
+sph_status sph_instability_locate(sph_backend *be, const sph_params_f64 *prm, sph_trip_kind kind,
                                   const double lower[3], const double upper[3],
                                   sph_trip_location *out, sph_error *err) {
     memset(out, 0, sizeof *out);

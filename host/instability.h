@@ -32,7 +32,7 @@ typedef struct {
  * the one with the closest neighbour, the fastest one (energy growth,
  * runaway speed), or
  * the one farthest outside [lower, upper] (domain). */
-sph_status sph_instability_locate(sph_backend *be, const double *prm, sph_trip_kind kind,
+sph_status sph_instability_locate(sph_backend *be, const sph_params_f64 *prm, sph_trip_kind kind,
                                   const double lower[3], const double upper[3],
                                   sph_trip_location *out, sph_error *err);
 

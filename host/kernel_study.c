@@ -354,8 +354,8 @@ typedef struct {
  * and the errors |grad f_i - A_f| and, corrected, |grad f_i - B_i A_f|
  * (grad_i W_ij replaced by B_i grad_i W_ij). */
 static void particle_errors(const ks_cells *g, const double *pos, int n, int i, double volume,
-                            const cpu_kernels *k, const double *prm, ks_particle *out) {
-    const double cutoff = 2.0 * prm[PRM_H];
+                            const cpu_kernels *k, const sph_params_f64 *prm, ks_particle *out) {
+    const double cutoff = 2.0 * prm->h;
     const double xi = pos[i], yi = pos[n + i];
     const double fi[NFUNC] = {1.0, sin(TWO_PI * xi)};
     double g0[2] = {0, 0}, m[2][2] = {{0, 0}, {0, 0}}, af[NFUNC][2] = {{0, 0}, {0, 0}};
@@ -409,12 +409,12 @@ static void particle_errors(const ks_cells *g, const double *pos, int n, int i, 
 static sph_status measure(ks_result *r, double exclude, sph_error *err) {
     const double t0 = sph_wall_seconds();
     const int n = r->n;
-    double prm[PRM_COUNT];
-    for (int k = 0; k < PRM_COUNT; k++) prm[k] = 0.0;
-    prm[PRM_H] = r->h;
-    prm[PRM_CUTOFF] = 2.0 * r->h;
-    prm[PRM_KERNEL] = (double)r->c.kernel;
-    prm[PRM_DP] = r->dp;
+    sph_params_f64 prm[1];
+    memset(prm, 0, sizeof *prm);
+    prm->h = r->h;
+    prm->cutoff = 2.0 * r->h;
+    prm->smoothing_kernel = (int)r->c.kernel;
+    prm->dp = r->dp;
     /* the kernel of the physics source (device/sph_smoothing_kernel.h) */
     const cpu_kernels *k = cpu_kernels_for(2, true);
     ks_cells g;

@@ -7,7 +7,7 @@
 #include <string.h>
 
 sph_status sph_observers_init(const sph_scene *scene, const sph_particles *p,
-                              const double prm[PRM_COUNT], sph_observer_set *set, sph_error *err) {
+                              const sph_params_f64 *prm, sph_observer_set *set, sph_error *err) {
     memset(set, 0, sizeof *set);
     set->count = scene->nobservers;
     set->dim = scene->dim;
@@ -15,7 +15,7 @@ sph_status sph_observers_init(const sph_scene *scene, const sph_particles *p,
     if (!set->offset) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     if (set->count == 0) return SPH_OK;
     const cpu_kernels *k = cpu_kernels_for(scene->dim, true);
-    const double cutoff = prm[PRM_CUTOFF];
+    const double cutoff = prm->cutoff;
     /* two passes: count, then fill */
     for (int pass = 0; pass < 2; ++pass) {
         int total = 0;

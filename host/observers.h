@@ -21,7 +21,7 @@ typedef struct {
 } sph_observer_set;
 
 sph_status sph_observers_init(const sph_scene *scene, const sph_particles *p,
-                              const double prm[PRM_COUNT], sph_observer_set *set, sph_error *err);
+                              const sph_params_f64 *prm, sph_observer_set *set, sph_error *err);
 /* Observer positions [count * dim] from backend-ordered positions and ids;
  * `slot_of_id` is scratch of n entries. */
 void sph_observers_eval(const sph_observer_set *set, int n, const double *pos, const int32_t *id,

@@ -31,10 +31,10 @@ typedef struct {
     /* [n] 0: free; k + 1: constrained by entry k of the scene's constraint
      * table (sph_constraint_index); NULL if the scene has no constraint */
     uint8_t *fixed;
-    int body_count[SPH_SCENE_MAX_BODIES];
+    int body_count[SPH_MAX_BODIES];
     int fixed_count;
     /* bodies with placement = "relaxed": what their relaxation did */
-    sph_relax_report relax[SPH_SCENE_MAX_BODIES];
+    sph_relax_report relax[SPH_MAX_BODIES];
 } sph_particles;
 
 /* Place the particles.  Input errors (SPH_ERR_INPUT, naming the body or

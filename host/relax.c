@@ -29,8 +29,8 @@
  * along the plane's normal.  With s^2 = r^2 - d^2 (smooth in s):
  *   2D: G = int_0^S -W'(r) 2 s^2 / r ds,   3D: G = pi int_0^S -W'(r) s^3 / r ds,
  * S = sqrt((2h)^2 - d^2); composite Simpson over 2000 intervals. */
-static double half_space_integral(const cpu_kernels *k, const double *prm, int dim, double h,
-                                  double d) {
+static double half_space_integral(const cpu_kernels *k, const sph_params_f64 *prm, int dim,
+                                  double h, double d) {
     const double cutoff = 2.0 * h;
     if (d >= cutoff) return 0.0;
     const double smax = sqrt(cutoff * cutoff - d * d);
@@ -50,15 +50,15 @@ static double half_space_integral(const cpu_kernels *k, const double *prm, int d
     return sum * ds / 3.0;
 }
 
-static void kernel_prm(sph_kernel kernel, double h, double prm[PRM_COUNT]) {
-    for (int k = 0; k < PRM_COUNT; k++) prm[k] = 0.0;
-    prm[PRM_H] = h;
-    prm[PRM_CUTOFF] = 2.0 * h;
-    prm[PRM_KERNEL] = (double)kernel;
+static void kernel_prm(sph_kernel kernel, double h, sph_params_f64 prm[1]) {
+    memset(prm, 0, sizeof *prm);
+    prm->h = h;
+    prm->cutoff = 2.0 * h;
+    prm->smoothing_kernel = (int)kernel;
 }
 
 void sph_kernel_half_space_init(int dim, sph_kernel kernel, double h, sph_kernel_half_space *t) {
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     kernel_prm(kernel, h, prm);
     /* the kernel of the physics source, one definition for the run and here */
     const cpu_kernels *k = cpu_kernels_for(dim, true);
@@ -85,7 +85,7 @@ typedef struct {
     const sph_scene *scene;
     int dim, n, shape;
     double dp, h, cutoff, volume;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     const cpu_kernels *k;
     /* the boundary term B(x) = int_outside grad_x W(x - y) dy on a
      * background mesh of spacing `mesh` (build_boundary_mesh) */

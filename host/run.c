@@ -201,11 +201,11 @@ sph_status sph_simulation_open(sph_simulation *sim, const sph_run_options *opt, 
         fprintf(stderr, "sphsolid: %s\n", line);
     }
     sph_features_from_scene(&sim->scene, &sim->particles, opt->precision, &sim->features);
-    st = sph_params_fill(&sim->scene, &sim->particles, &sim->features, sim->prm, err);
-    if (!st) st = sph_observers_init(&sim->scene, &sim->particles, sim->prm, &sim->observers, err);
+    st = sph_params_fill(&sim->scene, &sim->particles, &sim->features, &sim->prm, err);
+    if (!st) st = sph_observers_init(&sim->scene, &sim->particles, &sim->prm, &sim->observers, err);
     if (!st) st = sph_timeseries_init(&sim->series, sim->scene.dim, sim->scene.nobservers, err);
     if (st) return st;
-    st = sph_backend_create(&opt->backend, &sim->features, sim->prm, sim->particles.n,
+    st = sph_backend_create(&opt->backend, &sim->features, &sim->prm, sim->particles.n,
                             &sim->backend, err);
     if (st) return st;
     if (!opt->quiet)
@@ -232,8 +232,8 @@ static json_object *resolved_json(const sph_simulation *sim) {
     json_object *res = json_object_new_object();
     json_object_object_add(res, "dimension", json_object_new_int(sc->dim));
     json_object_object_add(res, "dp", json_object_new_double(sc->dp));
-    json_object_object_add(res, "smoothing_length", json_object_new_double(sim->prm[PRM_H]));
-    json_object_object_add(res, "cutoff", json_object_new_double(sim->prm[PRM_CUTOFF]));
+    json_object_object_add(res, "smoothing_length", json_object_new_double(sim->prm.h));
+    json_object_object_add(res, "cutoff", json_object_new_double(sim->prm.cutoff));
     json_object_object_add(res, "xi_e", json_object_new_double(sc->xi_e));
     json_object_object_add(res, "stepping", sph_json_string(sph_stepping_name(sc->stepping)));
     json_object_object_add(res, "cfl_advection", json_object_new_double(sc->cfl_advection));
@@ -537,7 +537,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
             .no_limit = opt->no_work_limit,
             .quiet = opt->quiet,
         };
-        st = sph_work_check(&sim->scene, &sim->particles, sim->prm, &work, NULL, err);
+        st = sph_work_check(&sim->scene, &sim->particles, &sim->prm, &work, NULL, err);
     }
     if (!st && opt->out_dir) {
         st = sph_output_open(&out, opt->out_dir, &sim->scene, resumed ? &sim->series : NULL, err);
@@ -550,7 +550,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
         const sph_snapshot_context ctx = {
             .scene = &sim->scene,
             .initial = &sim->particles,
-            .prm = sim->prm,
+            .prm = &sim->prm,
             .commit = sph_build_commit(),
             .backend = sim->backend->kind_name,
             .device = sim->backend->device_name,
@@ -571,7 +571,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
         .scene = &sim->scene,
         .backend = sim->backend,
         .initial = &sim->particles,
-        .prm = sim->prm,
+        .prm = &sim->prm,
         .observers = &sim->observers,
         .output = outp,
         .snapshots = snapp,

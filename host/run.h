@@ -64,7 +64,7 @@ typedef struct {
     sph_scene scene;
     sph_particles particles;
     sph_features features;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm;
     sph_backend *backend;
     sph_observer_set observers;
     sph_timeseries series;

@@ -1156,8 +1156,8 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
     if (st) return st;
     int n = config_setting_length(g);
     if (n == 0) return fail_at(L, g, NULL, "define at least one material");
-    if (n > SPH_SCENE_MAX_MATERIALS)
-        return fail_at(L, g, NULL, "at most %d materials, got %d", SPH_SCENE_MAX_MATERIALS, n);
+    if (n > SPH_MAX_MATERIALS)
+        return fail_at(L, g, NULL, "at most %d materials, got %d", SPH_MAX_MATERIALS, n);
     for (int i = 0; i < n; i++) {
         const config_setting_t *m = config_setting_get_elem(g, (unsigned)i);
         sph_material *mat = &sc->materials[i];
@@ -1781,7 +1781,7 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     if ((st = get_name(L, b, "material", &material, &at))) return st;
     body->material = find_material(sc, material);
     if (body->material < 0) {
-        const char *names[SPH_SCENE_MAX_MATERIALS];
+        const char *names[SPH_MAX_MATERIALS];
         for (int i = 0; i < sc->nmaterials; i++) names[i] = sc->materials[i].name;
         char hint[1024];
         suggest(material, names, sc->nmaterials, "defined materials", hint, sizeof hint);
@@ -1848,8 +1848,8 @@ static sph_status parse_bodies(loader *L, const config_setting_t *root) {
     sph_status st = get_list(L, root, "bodies", true, &list);
     if (st) return st;
     int n = config_setting_length(list);
-    if (n < 1 || n > SPH_SCENE_MAX_BODIES)
-        return fail_at(L, list, NULL, "expected 1 to %d bodies, got %d", SPH_SCENE_MAX_BODIES, n);
+    if (n < 1 || n > SPH_MAX_BODIES)
+        return fail_at(L, list, NULL, "expected 1 to %d bodies, got %d", SPH_MAX_BODIES, n);
     for (int i = 0; i < n; i++)
         if ((st = parse_body(L, config_setting_get_elem(list, (unsigned)i), i))) return st;
     L->scene->nbodies = n;
@@ -2028,8 +2028,8 @@ static sph_status parse_walls(loader *L, const config_setting_t *root) {
     sph_status st = get_list(L, root, "walls", false, &list);
     if (st || !list) return st;
     const int n = config_setting_length(list);
-    if (n > SPH_SCENE_MAX_WALLS)
-        return fail_at(L, list, NULL, "at most %d walls, got %d", SPH_SCENE_MAX_WALLS, n);
+    if (n > SPH_MAX_WALLS)
+        return fail_at(L, list, NULL, "at most %d walls, got %d", SPH_MAX_WALLS, n);
     if (sc->formulation == SPH_FORMULATION_TLSPH) {
         const config_setting_t *method = config_setting_get_member(root, "method");
         return fail_at(L, config_setting_get_member(method, "formulation"), NULL,

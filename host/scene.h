@@ -16,19 +16,18 @@
 
 #include "expression.h"
 #include "sph_error.h"
+/* the limits on bodies, materials and walls (the parameter block's tables) */
+#include "sph_params.h"
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
 #define SPH_NAME_LEN              64
-#define SPH_SCENE_MAX_BODIES      8 /* = SPH_MAX_BODIES of the device code */
 #define SPH_SCENE_MAX_SHAPES      64
 #define SPH_SCENE_MAX_SHAPE_PARTS 16
-#define SPH_SCENE_MAX_MATERIALS   8
 #define SPH_SCENE_MAX_CONSTRAINTS 8
 #define SPH_SCENE_MAX_OBSERVERS   16
-#define SPH_SCENE_MAX_WALLS       6  /* = SPH_MAX_WALLS of the device code */
 #define SPH_SCENE_MAX_CONSTANTS   32 /* named constants of the expressions */
 #define SPH_SCENE_PATH_LEN        1024
 #define SPH_SCENE_WHERE_LEN       (SPH_SCENE_PATH_LEN + 160)
@@ -252,15 +251,15 @@ typedef struct {
     bool geometry_at_start;
 
     int nmaterials;
-    sph_material materials[SPH_SCENE_MAX_MATERIALS];
+    sph_material materials[SPH_MAX_MATERIALS];
     int nshapes;
     sph_shape shapes[SPH_SCENE_MAX_SHAPES];
     int nbodies;
-    sph_body bodies[SPH_SCENE_MAX_BODIES];
+    sph_body bodies[SPH_MAX_BODIES];
     int nobservers;
     sph_observer observers[SPH_SCENE_MAX_OBSERVERS];
     int nwalls;
-    sph_wall walls[SPH_SCENE_MAX_WALLS];
+    sph_wall walls[SPH_MAX_WALLS];
 
     /* snapshots: every `snapshot_every` output times (0: none) and at the end */
     double snapshot_interval;

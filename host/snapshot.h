@@ -22,7 +22,7 @@
 typedef struct {
     const sph_scene *scene;
     const sph_particles *initial; /* displacement reference, by particle id */
-    const double *prm;
+    const sph_params_f64 *prm;
     const char *commit, *backend, *device, *build_options, *precision;
     const char *parameters_json; /* summary.json's "resolved" object */
 } sph_snapshot_context;

@@ -292,7 +292,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     }
 
-    const double h = a->prm[PRM_H], c0 = a->prm[PRM_C0];
+    const double h = a->prm->h, c0 = a->prm->materials[0].c0;
     const bool dual = sc->stepping == SPH_STEPPING_DUAL;
     /* TLSPH (tl_step.cl) works on the reference configuration: the rebuild at
      * t = 0 gives the reference neighbours, pair geometry and B0, and there is

@@ -49,7 +49,7 @@ typedef struct {
     const sph_scene *scene;
     sph_backend *backend;
     const sph_particles *initial;
-    const double *prm;
+    const sph_params_f64 *prm;
     const sph_observer_set *observers;
     sph_output *output;           /* NULL: no files */
     sph_snapshots *snapshots;     /* NULL: none */

@@ -160,8 +160,9 @@ static double particle_snapshot_bytes(const sph_scene *sc, bool double_precision
     return b;
 }
 
-void sph_work_estimate_compute(const sph_scene *sc, const sph_particles *p, const double *prm,
-                               const sph_work_request *rq, sph_work_estimate *e) {
+void sph_work_estimate_compute(const sph_scene *sc, const sph_particles *p,
+                               const sph_params_f64 *prm, const sph_work_request *rq,
+                               sph_work_estimate *e) {
     memset(e, 0, sizeof *e);
     e->material = sc->bodies[0].material;
     for (int b = 0; b < sc->nbodies; ++b) {
@@ -179,7 +180,7 @@ void sph_work_estimate_compute(const sph_scene *sc, const sph_particles *p, cons
         v2 = fmax(v2, s);
     }
     e->max_speed = sqrt(v2);
-    e->h = prm[PRM_H];
+    e->h = prm->h;
     /* the solver's own steps (sph_step_clock.h, solver.c) at the start */
     e->dt_acoustic = sc->cfl_acoustic * e->h / (e->sound_speed + e->max_speed);
     const double u = fmax(e->max_speed, sc->has_reference_speed ? sc->reference_speed : 0.0);
@@ -256,7 +257,7 @@ static sph_status exceeded(const sph_work_request *rq, const char *where, const 
     return SPH_OK;
 }
 
-sph_status sph_work_check(const sph_scene *sc, const sph_particles *p, const double *prm,
+sph_status sph_work_check(const sph_scene *sc, const sph_particles *p, const sph_params_f64 *prm,
                           const sph_work_request *rq, sph_work_estimate *out, sph_error *err) {
     sph_work_estimate local;
     sph_work_estimate *e = out ? out : &local;

@@ -76,12 +76,13 @@ typedef struct {
 
 /* Predict the run; prm holds sph_params_fill's constants. */
 void sph_work_estimate_compute(const sph_scene *scene, const sph_particles *particles,
-                               const double *prm, const sph_work_request *request,
+                               const sph_params_f64 *prm, const sph_work_request *request,
                                sph_work_estimate *out);
 
 /* Predict and judge: SPH_ERR_INPUT with the first limit exceeded (unless
  * request->no_limit), warnings and notes on stderr unless request->quiet. */
-sph_status sph_work_check(const sph_scene *scene, const sph_particles *particles, const double *prm,
-                          const sph_work_request *request, sph_work_estimate *out, sph_error *err);
+sph_status sph_work_check(const sph_scene *scene, const sph_particles *particles,
+                          const sph_params_f64 *prm, const sph_work_request *request,
+                          sph_work_estimate *out, sph_error *err);
 
 #endif

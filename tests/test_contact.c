@@ -28,16 +28,16 @@
 #include <string.h>
 
 /* Feature set and parameters of a hand-made two-body particle set. */
-static void two_body_setup(sph_features *f, double *prm, const sph_particles *p, double dp,
+static void two_body_setup(sph_features *f, sph_params_f64 *prm, const sph_particles *p, double dp,
                            double impedance, double penalty) {
     test_feature_set(f, p->dim, true, SPH_ROTATION_AVERAGED);
     f->nbodies = 2;
     f->contact = true;
     test_params(prm, p->dim, dp, p->body_count[0]);
-    prm[PRM_NBODIES] = 2;
-    prm[PRM_BODY_COUNT + 1] = p->body_count[1];
-    prm[PRM_CONTACT_IMPEDANCE] = impedance;
-    prm[PRM_CONTACT_PENALTY] = penalty;
+    prm->nbodies = 2;
+    prm->body_count[1] = p->body_count[1];
+    prm->contact_impedance = impedance;
+    prm->contact_penalty = penalty;
 }
 
 static void set_body(sph_particles *p, int i, int b) {
@@ -59,7 +59,7 @@ static void check_lists(test_counts *t, sph_backend_kind kind, int dim, int n, d
     for (int i = 0; i < n; ++i)
         if (i < cluster ? i % 3 == 0 : p.pos[i] > 0.5 * extent) set_body(&p, i, 1);
     sph_features f;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     two_body_setup(&f, prm, &p, dp, 1.0, 1.0);
     sph_backend *be = NULL;
     sph_error err = {0};
@@ -78,7 +78,7 @@ static void check_lists(test_counts *t, sph_backend_kind kind, int dim, int n, d
     if (!st) st = be->ops->download(be, FIELD_CONTACT_COUNT, contact, &err);
     CHECK(t, st == SPH_OK, "%s: rebuild failed: %s", label, err.msg);
     if (st) goto done;
-    const double cutoff2 = prm[PRM_CUTOFF] * prm[PRM_CUTOFF];
+    const double cutoff2 = prm->cutoff * prm->cutoff;
     long wrong = 0, pairs = 0, contact_pairs = 0;
     int max_total = 0;
     for (int i = 0; i < n; ++i) {
@@ -147,9 +147,9 @@ static void pair_bounce(test_counts *t, sph_backend_kind kind, double impedance,
     }
     set_body(&p, 1, 1);
     sph_features f;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     two_body_setup(&f, prm, &p, dp, impedance, 1.0);
-    const double c0 = prm[PRM_C0], u0 = 0.05 * c0;
+    const double c0 = prm->materials[0].c0, u0 = 0.05 * c0;
     /* particle 0 at the origin moving +x, particle 1 at (2.4 dp, 0.2 dp) moving -x */
     p.pos[1] = 2.4 * dp;
     p.pos[2 + 1] = 0.2 * dp;
@@ -161,7 +161,7 @@ static void pair_bounce(test_counts *t, sph_backend_kind kind, double impedance,
     sph_status st = test_backend(kind, &f, prm, 2, &be, &err);
     if (!st) st = be->ops->upload(be, &p, &err);
     double x[4], v[4], rmin = INFINITY, r = 0.0;
-    const double dt = 0.4 * prm[PRM_H] / (c0 + u0);
+    const double dt = 0.4 * prm->h / (c0 + u0);
     int steps = 0;
     for (; !st && steps < 2000; ++steps) {
         sph_rebuild_info info;
@@ -172,7 +172,7 @@ static void pair_bounce(test_counts *t, sph_backend_kind kind, double impedance,
         if (st) break;
         r = hypot(x[0] - x[1], x[2] - x[3]);
         rmin = fmin(rmin, r);
-        if (r > prm[PRM_CUTOFF] && steps > 10) break;
+        if (r > prm->cutoff && steps > 10) break;
     }
     if (!st) st = be->ops->download(be, FIELD_VEL, v, &err);
     CHECK(t, st == SPH_OK, "pair bounce failed: %s", err.msg);
@@ -184,7 +184,7 @@ static void pair_bounce(test_counts *t, sph_backend_kind kind, double impedance,
         printf("pair bounce (impedance %g): %d substeps, closest %.4f dp, KE after / before "
                "%.9f, momentum (%.3g, %.3g) of m u0 = %.3g\n",
                impedance, steps, rmin / dp, ke / ke0, px, py, m * u0);
-        CHECK(t, r > prm[PRM_CUTOFF], "the pair separates again (r = %.3g dp)", r / dp);
+        CHECK(t, r > prm->cutoff, "the pair separates again (r = %.3g dp)", r / dp);
         CHECK(t, fabs(px) <= 1e-14 * m * u0 && fabs(py) <= 1e-14 * m * u0,
               "momentum of the pair (%.3g, %.3g), m u0 %.3g", px, py, m * u0);
     }
@@ -195,15 +195,16 @@ static void pair_bounce(test_counts *t, sph_backend_kind kind, double impedance,
 /* Contact potential of a pair at distance r (penalty only): phi(r) =
  * int_r^dp 2 K (1 - s/dp)^2 |dW(s)| V_i V_j ds (sph_contact.h), by Simpson's
  * rule on 400 intervals. */
-static double contact_potential(const cpu_kernels *k, const double *prm, double r, double vv) {
-    const double dp = prm[PRM_DP];
+static double contact_potential(const cpu_kernels *k, const sph_params_f64 *prm, double r,
+                                double vv) {
+    const double dp = prm->dp;
     if (r >= dp) return 0.0;
     const int m = 400;
     const double h = (dp - r) / m;
     double sum = 0.0;
     for (int q = 0; q <= m; ++q) {
         const double s = r + q * h, o = 1.0 - s / dp;
-        const double f = 2.0 * prm[PRM_CONTACT_PENALTY] * prm[PRM_K] * o * o *
+        const double f = 2.0 * prm->contact_penalty * prm->materials[0].bulk_modulus * o * o *
                          fabs(fmin(k->kernel_dw(prm, s), 0.0)) * vv;
         sum += f * (q == 0 || q == m ? 1.0 : (q % 2 ? 4.0 : 2.0));
     }
@@ -228,11 +229,11 @@ static void pair_lattice(test_counts *t, sph_backend_kind kind, double impedance
         return;
     }
     sph_features f;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     unsigned seed = 11u;
     for (int k = 0; k < n / 2; ++k) set_body(&p, n / 2 + k, 1);
     two_body_setup(&f, prm, &p, dp, impedance, 1.0);
-    const double u0 = 0.05 * prm[PRM_C0];
+    const double u0 = 0.05 * prm->materials[0].c0;
     for (int k = 0; k < n / 2; ++k) {
         const double x = 6.0 * dp * (k % side), y = 6.0 * dp * (double)(k / side);
         const int o = n / 2 + k;
@@ -252,7 +253,7 @@ static void pair_lattice(test_counts *t, sph_backend_kind kind, double impedance
     sph_error err = {0};
     sph_status st = test_backend(kind, &f, prm, n, &be, &err);
     if (!st) st = be->ops->upload(be, &p, &err);
-    const double dt = 0.4 * prm[PRM_H] / (prm[PRM_C0] + 1.1 * u0);
+    const double dt = 0.4 * prm->h / (prm->materials[0].c0 + 1.1 * u0);
     const double m = p.mass[0], vv = dp * dp * dp * dp;
     double e0 = NAN, e = NAN, mom0[3] = {0, 0, 0}, dmom = 0.0, scale_p = 0.0, scale_l = 0.0;
     double rmin = INFINITY, e_prev = NAN;
@@ -400,16 +401,18 @@ static void rings(test_counts *t, sph_backend_kind kind) {
     if (!s2) s2 = be->ops->download(be, FIELD_BODY, body, &err);
     CHECK(t, s2 == SPH_OK, "download: %s", err.msg);
     double energy[2] = {0, 0}, gap = INFINITY;
-    const double *prm = sim.prm;
+    const sph_params_f64 *prm = &sim.prm;
     for (int i = 0; !s2 && i < n; ++i) {
         const double v2 = vel[i] * vel[i] + vel[n + i] * vel[n + i];
-        const double p = prm[PRM_C0] * prm[PRM_C0] * (rho[i] - prm[PRM_RHO0]);
+        const double p =
+            prm->materials[0].c0 * prm->materials[0].c0 * (rho[i] - prm->materials[0].rho0);
         /* tau in 2D: xx, xy, yy (sph_vec.h sym_index); sph_elasticity.h */
         const double tt =
             tau[i] * tau[i] + 2.0 * tau[n + i] * tau[n + i] + tau[2 * n + i] * tau[2 * n + i];
         energy[body[i]] +=
-            0.5 * mass[i] * v2 +
-            mass[i] / rho[i] * (tt / (4.0 * prm[PRM_G]) + p * p / (2.0 * prm[PRM_K]));
+            0.5 * mass[i] * v2 + mass[i] / rho[i] *
+                                     (tt / (4.0 * prm->materials[0].shear_modulus) +
+                                      p * p / (2.0 * prm->materials[0].bulk_modulus));
         for (int j = 0; j < n; ++j)
             if (body[j] != body[i])
                 gap = fmin(gap, hypot(pos[i] - pos[j], pos[n + i] - pos[n + j]));

@@ -19,7 +19,7 @@ static void check_cloud(test_counts *t, sph_backend_kind kind, int dim, int n, d
     }
     sph_features f;
     test_feature_set(&f, dim, true, SPH_ROTATION_AVERAGED);
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     test_params(prm, dim, dp, n);
     sph_backend *be = NULL;
     sph_error err = {0};
@@ -51,7 +51,7 @@ static void check_cloud(test_counts *t, sph_backend_kind kind, int dim, int n, d
           moved_wrong);
 
     /* brute force with the kernel's own arithmetic: d = x_i - x_j, r2 = d.d */
-    const double cutoff2 = prm[PRM_CUTOFF] * prm[PRM_CUTOFF];
+    const double cutoff2 = prm->cutoff * prm->cutoff;
     int *brute = malloc((size_t)n * sizeof(int));
     long mismatched = 0, pairs = 0;
     int max_count = 0;

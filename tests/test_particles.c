@@ -56,7 +56,7 @@ static size_t nearest(const sph_particles *p, double x, double y) {
 static void check_bookkeeping(test_counts *c, const sph_particles *p, const sph_scene *s,
                               const char *what) {
     bool ids = true, bodies_sorted = true, masses = true;
-    int counts[SPH_SCENE_MAX_BODIES] = {0};
+    int counts[SPH_MAX_BODIES] = {0};
     for (int i = 0; i < p->n; i++) {
         ids &= p->id[i] == i;
         if (i > 0) bodies_sorted &= p->body[i] >= p->body[i - 1];

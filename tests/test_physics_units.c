@@ -24,7 +24,7 @@
 #endif
 
 /* The four smoothing kernels of device/sph_smoothing_kernel.h, selected by
- * prm[PRM_KERNEL] as the scene key method.kernel does. */
+ * prm->smoothing_kernel as the scene key method.kernel does. */
 static const int KERNELS[] = {KERNEL_WENDLAND_C2, KERNEL_LAGUERRE_GAUSS, KERNEL_LAGUERRE_WENDLAND,
                               KERNEL_CUBIC_BSPLINE};
 static const char *const KERNEL_LABELS[] = {"wendland-c2", "laguerre-gauss", "laguerre-wendland",
@@ -72,12 +72,12 @@ static double exact_integral(int kernel, int dim) {
 /* int_0^2h W(r) S_d r^(d-1) dr by composite 5-point Gauss-Legendre on 400
  * panels (breakpoints at r = h for the B-spline's pieces; the nodes never
  * touch r = 2h, where the truncated Laguerre-Gauss kernel jumps). */
-static double radial_integral(const cpu_kernels *k, const double *prm) {
+static double radial_integral(const cpu_kernels *k, const sph_params_f64 *prm) {
     static const double x[5] = {0.0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640,
                                 0.9061798459386640};
     static const double w[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665,
                                 0.2369268850561891, 0.2369268850561891};
-    const double rc = 2.0 * prm[PRM_H];
+    const double rc = 2.0 * prm->h;
     const int panels = 400;
     const double len = rc / panels;
     double sum = 0.0;
@@ -94,9 +94,9 @@ static double radial_integral(const cpu_kernels *k, const double *prm) {
 
 /* sum over a lattice of spacing delta of W(|x|) delta^d; *inside: delta^d
  * times the number of lattice points with r <= 2h */
-static double lattice_integral(const cpu_kernels *k, const double *prm, double delta,
+static double lattice_integral(const cpu_kernels *k, const sph_params_f64 *prm, double delta,
                                double *inside) {
-    const double cutoff = prm[PRM_CUTOFF], h = prm[PRM_H];
+    const double cutoff = prm->cutoff, h = prm->h;
     const int m = (int)ceil(cutoff / delta) + 1;
     const double dv = k->dim == 2 ? delta * delta : delta * delta * delta;
     double sum = 0.0;
@@ -138,10 +138,10 @@ static void check_kernels(test_counts *t) {
         const int kernel = KERNELS[kk];
         const char *name = KERNEL_LABELS[kk];
         for (int dim = 2; dim <= 3; ++dim) {
-            double prm[PRM_COUNT];
+            sph_params_f64 prm[1];
             test_params(prm, dim, 1.0, 1.0);
-            prm[PRM_KERNEL] = kernel;
-            const double h = prm[PRM_H], dp = prm[PRM_DP];
+            prm->smoothing_kernel = kernel;
+            const double h = prm->h, dp = prm->dp;
             const double exact = exact_integral(kernel, dim);
             const bool lg = kernel == KERNEL_LAGUERRE_GAUSS;
             char what[160];
@@ -255,7 +255,7 @@ static void check_correction_matrix(test_counts *t, sph_backend_kind kind) {
         }
         sph_features f;
         test_feature_set(&f, dim, true, SPH_ROTATION_NONE);
-        double prm[PRM_COUNT];
+        sph_params_f64 prm[1];
         test_params(prm, dim, dp, n);
         sph_backend *be = NULL;
         sph_error err = {0};
@@ -287,7 +287,7 @@ static void check_correction_matrix(test_counts *t, sph_backend_kind kind) {
                 }
                 if (r2 < best) best = r2, centre = i;
             }
-            const double h = prm[PRM_H];
+            const double h = prm->h;
             const double alpha =
                 dim == 2 ? 7.0 / (4.0 * M_PI * h * h) : 21.0 / (16.0 * M_PI * h * h * h);
             double axx = 0.0;
@@ -413,11 +413,11 @@ static void check_wall_plane_kernel(test_counts *t) {
     static const int kernels[] = {KERNEL_WENDLAND_C2, KERNEL_CUBIC_BSPLINE};
     for (int kk = 0; kk < 2; ++kk)
         for (int dim = 2; dim <= 3; ++dim) {
-            double prm[PRM_COUNT];
+            sph_params_f64 prm[1];
             test_params(prm, dim, 1.0, 1.0);
-            prm[PRM_KERNEL] = kernels[kk];
+            prm->smoothing_kernel = kernels[kk];
             const cpu_kernels *k = cpu_kernels_for(dim, true);
-            const double h = prm[PRM_H], rc = prm[PRM_CUTOFF];
+            const double h = prm->h, rc = prm->cutoff;
             char what[160];
             double max_err = 0.0, peak = 0.0;
             for (int s = 0; s < 8; ++s) {

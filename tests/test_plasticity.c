@@ -55,22 +55,22 @@
 #include <stdbool.h>
 #include <string.h>
 
-static void material(double *prm, double kappa) {
-    memset(prm, 0, PRM_COUNT * sizeof(double));
+static void material(sph_params_f64 *prm, double kappa) {
+    memset(prm, 0, sizeof *prm);
     /* the square Taylor bar's copper (003 §5.2.2): E 1.17e11, nu 0.35,
      * sigma_Y 4e8 */
     const double e = 1.17e11, nu = 0.35;
-    prm[PRM_G] = e / (2.0 * (1.0 + nu));
-    prm[PRM_YIELD] = 4e8;
-    prm[PRM_HARDENING] = kappa;
-    prm[PRM_PLASTIC] = 1.0;
+    prm->materials[0].shear_modulus = e / (2.0 * (1.0 + nu));
+    prm->materials[0].yield = 4e8;
+    prm->materials[0].hardening = kappa;
+    prm->plastic = 1;
 }
 
 static void patch(test_counts *t, int dim, double kappa) {
     const cpu_kernels *k = cpu_kernels_for(dim, true);
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     material(prm, kappa);
-    const double g = prm[PRM_G], sy = prm[PRM_YIELD];
+    const double g = prm->materials[0].shear_modulus, sy = prm->materials[0].yield;
     const double rate = 1e3, dt = 1e-7; /* eps' and step: 0.01 % strain per step */
     double d[9] = {0};
     d[0] = rate;
@@ -128,9 +128,9 @@ static void patch(test_counts *t, int dim, double kappa) {
  * under a pure spin (objectivity): |tau| stays, to round-off. */
 static void elastic_spin(test_counts *t) {
     const cpu_kernels *k = cpu_kernels_for(2, true);
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     material(prm, 0);
-    prm[PRM_PLASTIC] = 0.0;
+    prm->plastic = 0;
     double tau[4] = {1e6, 3e5, 3e5, -1e6}, spin[4] = {0, -50, 50, 0};
     const double n0 = sqrt(2e12 + 2 * 9e10);
     for (int step = 0; step < 1000; ++step) k->stress_update(prm, spin, 1e-6, tau, NULL);
@@ -183,18 +183,18 @@ typedef struct {
     double e, nu, mu, lambda, k, sy, kappa;
 } tl_material;
 
-static tl_material tl_params(double *prm, double kappa) {
-    memset(prm, 0, PRM_COUNT * sizeof(double));
+static tl_material tl_params(sph_params_f64 *prm, double kappa) {
+    memset(prm, 0, sizeof *prm);
     tl_material m = {.e = 7e10, .nu = 0.3, .sy = 3e8, .kappa = kappa};
     m.mu = m.e / (2.0 * (1.0 + m.nu));
     m.k = m.e / (3.0 * (1.0 - 2.0 * m.nu));
     m.lambda = m.k - 2.0 * m.mu / 3.0; /* plane strain in 2D, as the TLSPH material */
-    prm[PRM_G] = m.mu;
-    prm[PRM_K] = m.k;
-    prm[PRM_LAMBDA] = m.lambda;
-    prm[PRM_YIELD] = m.sy;
-    prm[PRM_HARDENING] = kappa;
-    prm[PRM_PLASTIC] = 1.0;
+    prm->materials[0].shear_modulus = m.mu;
+    prm->materials[0].bulk_modulus = m.k;
+    prm->materials[0].lambda = m.lambda;
+    prm->materials[0].yield = m.sy;
+    prm->materials[0].hardening = kappa;
+    prm->plastic = 1;
     return m;
 }
 
@@ -243,8 +243,8 @@ static double gamma_exact(const tl_material *m, double drive, double gamma0, dou
 
 /* One TLSPH J2 update through the probe; f and the results 3 x 3 (the
  * probe's d x d block plus, in 2D, the zz components). */
-static int tl_update3(const cpu_kernels *k, const double *prm, const double f3[9], double cp3[9],
-                      double *alpha, double tau3[9]) {
+static int tl_update3(const cpu_kernels *k, const sph_params_f64 *prm, const double f3[9],
+                      double cp3[9], double *alpha, double tau3[9]) {
     const int d = k->dim, dd = d * d;
     double f[9], state[11], tau[10];
     for (int a = 0; a < d; ++a)
@@ -279,7 +279,7 @@ static double max_abs_diff(const double *a, const double *b, int n) {
  * reloading; `rigid` adds a rigid rotation growing to 1 rad. */
 static void tl_isochoric(test_counts *t, int dim, double kappa, double axes_angle, bool rigid) {
     const cpu_kernels *k = cpu_kernels_for(dim, true);
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     const tl_material m = tl_params(prm, kappa);
     const double axis[3] = {dim == 2 ? 0.0 : 1.0, dim == 2 ? 0.0 : 2.0, 3.0};
     double r[9], q[9];
@@ -356,7 +356,7 @@ static void tl_isochoric(test_counts *t, int dim, double kappa, double axes_angl
 /* (b): plane-strain uniaxial strain, whose plastic flow has a zz part. */
 static void tl_uniaxial(test_counts *t, int dim, double kappa) {
     const cpu_kernels *k = cpu_kernels_for(dim, true);
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     const tl_material m = tl_params(prm, kappa);
     const double kb = m.lambda + 2.0 * m.mu / 3.0, r6 = sqrt(6.0);
     const double dir[3] = {2.0 / r6, -1.0 / r6, -1.0 / r6};
@@ -394,7 +394,7 @@ static void tl_uniaxial(test_counts *t, int dim, double kappa) {
  * stretch at eps = 1e-4 (see the header). */
 static void tl_hencky_vs_svk(test_counts *t, int dim) {
     const cpu_kernels *k = cpu_kernels_for(dim, true);
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     const tl_material m = tl_params(prm, 0.0);
     const double eps = 1e-4;
     const double f[9] = {exp(eps), 0, 0, 0, exp(-eps), 0, 0, 0, 1};

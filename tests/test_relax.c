@@ -215,10 +215,10 @@ static void test_half_space(test_counts *c) {
         sph_kernel_half_space t;
         sph_kernel_half_space_init(dim, SPH_KERNEL_WENDLAND_C2, h, &t);
         const cpu_kernels *k = cpu_kernels_for(dim, true);
-        double prm[PRM_COUNT] = {0};
-        prm[PRM_H] = h;
-        prm[PRM_CUTOFF] = 2 * h;
-        prm[PRM_KERNEL] = SPH_KERNEL_WENDLAND_C2;
+        sph_params_f64 prm[1];
+        prm->h = h;
+        prm->cutoff = 2 * h;
+        prm->smoothing_kernel = SPH_KERNEL_WENDLAND_C2;
         const double ds[] = {0.0, 0.5 * dp, 1.0 * dp, 1.7 * dp};
         for (int q = 0; q < 4; q++) {
             const double d = ds[q], step = h / (dim == 2 ? 200.0 : 60.0);

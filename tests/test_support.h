@@ -155,23 +155,24 @@ static inline void test_feature_set(sph_features *f, int dim, bool double_precis
     f->nbodies = 1;
 }
 
-static inline void test_params(double *prm, int dim, double dp, double n_body) {
-    for (int k = 0; k < PRM_COUNT; ++k) prm[k] = 0.0;
+static inline void test_params(sph_params_f64 *prm, int dim, double dp, double n_body) {
+    memset(prm, 0, sizeof *prm);
     const double rho0 = 1000.0, e = 2e6, nu = 0.3975;
-    prm[PRM_H] = 1.3 * dp;
-    prm[PRM_CUTOFF] = 2.6 * dp;
-    prm[PRM_RHO0] = rho0;
-    prm[PRM_C0] = sqrt(e / (3.0 * (1.0 - 2.0 * nu) * rho0));
-    prm[PRM_G] = e / (2.0 * (1.0 + nu));
-    prm[PRM_K] = rho0 * prm[PRM_C0] * prm[PRM_C0];
-    prm[PRM_XI_E] = 0.7 * dim + 2.1;
-    prm[PRM_NBODIES] = 1;
-    prm[PRM_DP] = dp;
-    prm[PRM_BODY_COUNT] = n_body;
+    prm->h = 1.3 * dp;
+    prm->cutoff = 2.6 * dp;
+    prm->materials[0].rho0 = rho0;
+    prm->materials[0].c0 = sqrt(e / (3.0 * (1.0 - 2.0 * nu) * rho0));
+    prm->materials[0].shear_modulus = e / (2.0 * (1.0 + nu));
+    prm->materials[0].bulk_modulus = rho0 * prm->materials[0].c0 * prm->materials[0].c0;
+    prm->xi_e = 0.7 * dim + 2.1;
+    prm->nbodies = 1;
+    prm->dp = dp;
+    prm->body_count[0] = (int)n_body;
 }
 
 static inline sph_status test_backend(sph_backend_kind kind, const sph_features *f,
-                                      const double *prm, int n, sph_backend **be, sph_error *err) {
+                                      const sph_params_f64 *prm, int n, sph_backend **be,
+                                      sph_error *err) {
     const sph_backend_request req = {.kind = kind, .device_index = -1, .quiet = true};
     return sph_backend_create(&req, f, prm, n, be, err);
 }

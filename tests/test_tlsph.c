@@ -85,8 +85,8 @@ static void svk_pk1(const double f[4], double lambda, double mu, double p[4]) {
  * `plastic` = {yield stress, hardening modulus} makes the material J2-plastic
  * (NULL: elastic). */
 static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const double f0[4],
-                                  const double *plastic, sph_particles *p, double *prm, int32_t *id,
-                                  sph_error *err) {
+                                  const double *plastic, sph_particles *p, sph_params_f64 *prm,
+                                  int32_t *id, sph_error *err) {
     const int n = PATCH_N * PATCH_N, d = 2;
     const double dp = 0.01;
     if (test_particles_alloc(p, n, d, 1000.0, dp) != 0) {
@@ -101,14 +101,14 @@ static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const dou
     test_feature_set(&f, d, true, SPH_ROTATION_NONE);
     f.formulation = SPH_FORMULATION_TLSPH;
     test_params(prm, d, dp, n);
-    prm[PRM_FORMULATION] = FORMULATION_TLSPH;
-    prm[PRM_LAMBDA] = prm[PRM_K] - prm[PRM_G]; /* the 2D in-plane model */
-    prm[PRM_HOURGLASS] = alpha;
+    prm->materials[0].lambda = prm->materials[0].bulk_modulus -
+                               prm->materials[0].shear_modulus; /* the 2D in-plane model */
+    prm->hourglass = alpha;
     if (plastic) {
         f.plastic = true;
-        prm[PRM_PLASTIC] = 1.0;
-        prm[PRM_YIELD] = plastic[0];
-        prm[PRM_HARDENING] = plastic[1];
+        prm->plastic = 1;
+        prm->materials[0].yield = plastic[0];
+        prm->materials[0].hardening = plastic[1];
     }
     sph_backend *be = NULL;
     sph_rebuild_info info;
@@ -139,7 +139,7 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
     /* stretch plus shear */
     const double f0[4] = {1.1, 0.03, -0.02, 0.96};
     sph_particles p;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
     sph_error err = {0};
     sph_backend *be = patch_backend(kind, alpha, f0, NULL, &p, prm, id, &err);
@@ -149,7 +149,7 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
         sph_particles_free(&p);
         return;
     }
-    const double dp = prm[PRM_DP];
+    const double dp = prm->dp;
     sph_status st = SPH_OK;
     double *defgrad = malloc(sizeof(double) * (size_t)(4 * n));
     double *pk1 = malloc(sizeof(double) * (size_t)(4 * n));
@@ -163,7 +163,7 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
     CHECK(t, st == SPH_OK, "patch test run: %s", err.msg);
     if (!st) {
         double p_svk[4], p_max = 0.0, f_err = 0.0, p_err = 0.0, a_edge = 0.0, a_deep = 0.0;
-        svk_pk1(f0, prm[PRM_LAMBDA], prm[PRM_G], p_svk);
+        svk_pk1(f0, prm->materials[0].lambda, prm->materials[0].shear_modulus, p_svk);
         for (int k = 0; k < 4; ++k) p_max = fmax(p_max, fabs(p_svk[k]));
         int interior = 0, deep = 0;
         for (int i = 0; i < n; ++i) {
@@ -192,7 +192,7 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
         CHECK(t, a_deep <= 1e-9 * a_edge, "deep acceleration %.3g, edge %.3g", a_deep, a_edge);
     }
     /* release the stretched patch: momentum stays zero */
-    const double dt = 0.4 * prm[PRM_H] / prm[PRM_C0];
+    const double dt = 0.4 * prm->h / prm->materials[0].c0;
     for (int s = 0; !st && s < 20; ++s) st = be->ops->substep(be, dt, &v2, &err);
     sph_diagnostics diag;
     if (!st) st = be->ops->diagnostics(be, &diag, &err);
@@ -223,8 +223,8 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
  * errors cancels to third order in |X_ij| (midpoint rule), so what remains
  * is the particle-scale, zero-energy part the hourglass force acts on.
  * Returns a negative value on failure. */
-static double hourglass_indicator(sph_backend *be, const sph_particles *p0, const double *prm,
-                                  sph_error *err) {
+static double hourglass_indicator(sph_backend *be, const sph_particles *p0,
+                                  const sph_params_f64 *prm, sph_error *err) {
     const int n = be->n;
     const cpu_kernels *k = cpu_kernels_for(2, true);
     double *x = malloc(sizeof(double) * (size_t)(2 * n));
@@ -250,7 +250,7 @@ static double hourglass_indicator(sph_backend *be, const sph_particles *p0, cons
             const double e[2] = {xij[0] / r, xij[1] / r};
             const double be_[2] = {b[0][0] * e[0] + b[0][1] * e[1],
                                    b[1][0] * e[0] + b[1][1] * e[1]};
-            const double dwv = k->kernel_dw(prm, r) * p0->mass[id[j]] / prm[PRM_RHO0];
+            const double dwv = k->kernel_dw(prm, r) * p0->mass[id[j]] / prm->materials[0].rho0;
             for (int a = 0; a < 2; ++a)
                 for (int c = 0; c < 2; ++c)
                     fi[a * 2 + c] += dwv * (x[a * n + j] - x[a * n + i]) * be_[c];
@@ -289,7 +289,7 @@ static double checkerboard_patch(sph_backend_kind kind, double alpha, int steps,
     const int n = PATCH_N * PATCH_N;
     const double f0[4] = {1.0, 0.0, 0.0, 1.0}, v0 = 0.01; /* m/s, 2e-4 c0 */
     sph_particles p;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
     double *vel = calloc((size_t)(2 * n), sizeof(double));
     sph_backend *be = patch_backend(kind, alpha, f0, NULL, &p, prm, id, err);
@@ -297,7 +297,7 @@ static double checkerboard_patch(sph_backend_kind kind, double alpha, int steps,
     for (int i = 0; !st && i < n; ++i)
         vel[n + i] = (id[i] % PATCH_N + id[i] / PATCH_N) % 2 ? -v0 : v0;
     if (!st) st = be->ops->upload_field(be, FIELD_VEL, vel, err);
-    const double dt = 0.4 * prm[PRM_H] / prm[PRM_C0];
+    const double dt = 0.4 * prm->h / prm->materials[0].c0;
     double v2 = 0.0, indicator = -1.0;
     for (int s = 0; !st && s < steps; ++s) st = be->ops->substep(be, dt, &v2, err);
     if (!st) indicator = hourglass_indicator(be, &p, prm, err);
@@ -373,7 +373,7 @@ static sph_status switch_patch(sph_backend_kind kind, const double *plastic, dou
     const int n = PATCH_N * PATCH_N;
     const double f0[4] = {1.0, 0.0, 0.0, 1.0};
     sph_particles p;
-    double prm[PRM_COUNT];
+    sph_params_f64 prm[1];
     int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
     double *x = malloc(sizeof(double) * (size_t)(2 * n));
     double *acc = malloc(sizeof(double) * (size_t)(2 * n));
@@ -384,7 +384,7 @@ static sph_status switch_patch(sph_backend_kind kind, const double *plastic, dou
         be = patch_backend(kind, HOURGLASS_ALPHA, f0, plastic, &p, prm, id, err);
         if (!be) st = SPH_ERR_RUNTIME;
     }
-    const double u0 = 0.01 * prm[PRM_DP];
+    const double u0 = 0.01 * prm->dp;
     for (int i = 0; !st && i < n; ++i) {
         const int ix = id[i] % PATCH_N, iy = id[i] / PATCH_N;
         x[i] = p.pos[id[i]];
@@ -453,9 +453,10 @@ static void hourglass_switch(test_counts *t, sph_backend_kind kind) {
           kind == SPH_BACKEND_OPENCL ? " and kernel arguments" : "", (int)compiled[0],
           (int)compiled[1]);
     if (!st) {
-        double prm[PRM_COUNT];
+        sph_params_f64 prm[1];
         test_params(prm, 2, 0.01, n);
-        const double k = prm[PRM_K], g = prm[PRM_G], youngs = 9 * k * g / (3 * k + g);
+        const double k = prm->materials[0].bulk_modulus, g = prm->materials[0].shear_modulus,
+                     youngs = 9 * k * g / (3 * k + g);
         const double ratio = (SWITCH_YIELD + SWITCH_HARDENING * SWITCH_STRAIN) / youngs;
         double a_deep = 0.0, d_unswitched = 0.0, d_switched = 0.0, sum[2] = {0, 0}, sum_abs = 0.0;
         int deep = 0;

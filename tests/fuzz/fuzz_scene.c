@@ -58,10 +58,9 @@ static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
     if (!isfinite(sc->snapshot_interval) || sc->snapshot_every < 0)
         violate(res, "snapshot_interval %g, every %d", sc->snapshot_interval, sc->snapshot_every);
     if (!sc->resolved_text) violate(res, "no resolved text");
-    if (sc->nmaterials < 1 || sc->nmaterials > SPH_SCENE_MAX_MATERIALS || sc->nshapes < 1 ||
-        sc->nshapes > SPH_SCENE_MAX_SHAPES || sc->nbodies < 1 ||
-        sc->nbodies > SPH_SCENE_MAX_BODIES || sc->nobservers < 0 ||
-        sc->nobservers > SPH_SCENE_MAX_OBSERVERS) {
+    if (sc->nmaterials < 1 || sc->nmaterials > SPH_MAX_MATERIALS || sc->nshapes < 1 ||
+        sc->nshapes > SPH_SCENE_MAX_SHAPES || sc->nbodies < 1 || sc->nbodies > SPH_MAX_BODIES ||
+        sc->nobservers < 0 || sc->nobservers > SPH_SCENE_MAX_OBSERVERS) {
         violate(res, "table sizes %d materials, %d shapes, %d bodies, %d observers", sc->nmaterials,
                 sc->nshapes, sc->nbodies, sc->nobservers);
         return;
@@ -147,7 +146,7 @@ static bool within_budget(const sph_scene *sc) {
 }
 
 static void check_particles(fuzz_scene_result *res, const sph_scene *sc, const sph_particles *p) {
-    int per_body[SPH_SCENE_MAX_BODIES] = {0};
+    int per_body[SPH_MAX_BODIES] = {0};
     for (int i = 0; i < p->n; i++) {
         double x[3] = {0, 0, 0};
         for (int a = 0; a < p->dim; a++) {
