@@ -241,6 +241,15 @@ static void format_point(const double x[3], int dim, char *buf, size_t len) {
         snprintf(buf, len, "(%g, %g, %g)", x[0], x[1], x[2]);
 }
 
+/* "(x, y) to (x, y)": a box, for the messages that say where a region, a
+ * domain or a body's particles lie */
+static void format_span(const double lo[3], const double hi[3], int dim, char *buf, size_t len) {
+    char l[96], h[96];
+    format_point(lo, dim, l, sizeof l);
+    format_point(hi, dim, h, sizeof h);
+    snprintf(buf, len, "%s to %s", l, h);
+}
+
 /* The velocities of the bodies whose initial_velocity is an expression
  * (set_point_data left them 0): the body's expressions are compiled once
  * and evaluated at every particle of the body, placed or relaxed.  A value
@@ -337,19 +346,17 @@ static sph_status check_constraint_regions(const sph_scene *scene, const sph_par
             const char *region = scene->shapes[con->region].name;
             if (held[k] == 0) {
                 double rlo[3], rhi[3], blo[3], bhi[3];
-                char rl[96], rh[96], bl[96], bh[96];
+                char rs[200], bs[200];
                 sph_shape_bounds(scene, con->region, rlo, rhi);
                 body_span(p, start, count, blo, bhi);
-                format_point(rlo, dim, rl, sizeof rl);
-                format_point(rhi, dim, rh, sizeof rh);
-                format_point(blo, dim, bl, sizeof bl);
-                format_point(bhi, dim, bh, sizeof bh);
+                format_span(rlo, rhi, dim, rs, sizeof rs);
+                format_span(blo, bhi, dim, bs, sizeof bs);
                 return sph_fail(err, SPH_ERR_INPUT,
-                                "%s: region '%s' (within %s to %s) holds none of the %ld particles "
-                                "of body '%s' (%s to %s, spacing dp = %g), so the constraint "
+                                "%s: region '%s' (within %s) holds none of the %ld particles "
+                                "of body '%s' (%s, spacing dp = %g), so the constraint "
                                 "would do nothing; make the region cover the particles to "
                                 "constrain",
-                                con->where, region, rl, rh, count, body->name, bl, bh, scene->dp);
+                                con->where, region, rs, count, body->name, bs, scene->dp);
             }
             if (taken[k] == 0) {
                 int first = 0;
@@ -406,18 +413,16 @@ static sph_status check_monitor_domain(const sph_scene *scene, const sph_particl
             double x[3] = {0, 0, 0}, blo[3], bhi[3];
             for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + (size_t)first];
             body_span(p, start, count, blo, bhi);
-            char pt[96], dl[96], du[96], bl[96], bh[96];
+            char pt[96], ds[200], bs[200];
             format_point(x, dim, pt, sizeof pt);
-            format_point(lower, dim, dl, sizeof dl);
-            format_point(upper, dim, du, sizeof du);
-            format_point(blo, dim, bl, sizeof bl);
-            format_point(bhi, dim, bh, sizeof bh);
+            format_span(lower, upper, dim, ds, sizeof ds);
+            format_span(blo, bhi, dim, bs, sizeof bs);
             return sph_fail(err, SPH_ERR_INPUT,
                             "%s: %ld of the %ld particles of body '%s' (%s) start outside the "
-                            "domain %s to %s, the first at %s; the body's particles span %s to "
-                            "%s, and the domain must contain them all",
+                            "domain %s, the first at %s; the body's particles span %s, and the "
+                            "domain must contain them all",
                             scene->monitor_domain_where, outside, count, body->name, body->where,
-                            dl, du, pt, bl, bh);
+                            ds, pt, bs);
         }
         start += count;
     }

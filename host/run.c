@@ -438,7 +438,7 @@ static json_object *summary_json(const sph_simulation *sim) {
      * reported (a constraint, a wall, gravity) */
     json_object_object_add(metrics, "angular_momentum_not_conserved",
                            m->angular_momentum_not_conserved[0]
-                               ? json_object_new_string(m->angular_momentum_not_conserved)
+                               ? sph_json_string(m->angular_momentum_not_conserved)
                                : NULL);
     json_object_object_add(metrics, "initial_angular_momentum", num(m->initial_angular_momentum));
     if (sc->period_observer >= 0) {

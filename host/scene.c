@@ -2390,6 +2390,46 @@ sph_status sph_scene_load_text(sph_scene *scene, const char *origin, const char 
     return load(scene, origin, text, overrides, noverrides, err);
 }
 
+bool sph_scene_key_where(const sph_scene *scene, const char *const *overrides, int noverrides,
+                         const char *key, char *buf, size_t size) {
+    /* the scene keeps no source lines after loading: read its file again
+     * as load() does (the same text preparation and overrides, so that
+     * override_of names the --set that made a setting) */
+    sph_error ignored;
+    loader L = {.file = scene->path, .err = &ignored, .scene = NULL};
+    config_t cfg;
+    config_init(&cfg);
+    sph_status st = read_scene_file(&L, &cfg, scene->path);
+    for (int i = 0; st == SPH_OK && i < noverrides; i++)
+        st = apply_override(&L, &cfg, overrides[i]);
+    const config_setting_t *s = NULL;
+    bool given = false;
+    if (st == SPH_OK) {
+        char path[SPH_SCENE_PATH_LEN];
+        snprintf(path, sizeof path, "%s", key);
+        for (;;) {
+            s = config_lookup(&cfg, path);
+            if (s) {
+                given = strcmp(path, key) == 0;
+                break;
+            }
+            char *dot = strrchr(path, '.');
+            if (!dot) break;
+            *dot = '\0';
+        }
+    }
+    const char *ov = s ? override_of(s) : NULL;
+    const unsigned line = s ? config_setting_source_line(s) : 0;
+    if (ov)
+        sph_format(buf, size, "--set %s: %s", ov, key);
+    else if (line > 0)
+        sph_format(buf, size, "%s:%u: %s", scene->path, line, key);
+    else
+        sph_format(buf, size, "%s: %s", scene->path, key);
+    config_destroy(&cfg);
+    return given || ov != NULL;
+}
+
 void sph_scene_free(sph_scene *scene) {
     if (!scene) return;
     free(scene->resolved_text);

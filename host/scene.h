@@ -293,6 +293,15 @@ sph_status sph_scene_load(sph_scene *scene, const char *path, const char *const 
  * it in messages. */
 sph_status sph_scene_load_text(sph_scene *scene, const char *origin, const char *text,
                                const char *const *overrides, int noverrides, sph_error *err);
+/* Where `key` (a full path, "time.end") got its value, in the scene-error
+ * prefix: "--set KEY=VALUE: KEY" when an override made it, else
+ * "FILE:LINE: KEY" with its line (or that of the nearest group holding it,
+ * where the key is left at its default), else "FILE: KEY" (a restart's
+ * stored scene has no file).  True when the file or an override gives the
+ * key, false when it is defaulted.  For messages after loading (the
+ * pre-run work estimate); it reads the scene file again. */
+bool sph_scene_key_where(const sph_scene *scene, const char *const *overrides, int noverrides,
+                         const char *key, char *buf, size_t size);
 void sph_scene_free(sph_scene *scene);
 
 /* The rule for the names of materials, shapes, bodies, observers and walls

@@ -1,10 +1,11 @@
 #include "work_estimate.h"
 
+#include "particles.h" /* sph_format_bytes: the memory messages' units */
+
 #include "sph_constants.h"
 
 #include <dirent.h>
 #include <errno.h>
-#include <libconfig.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,73 +27,10 @@
 
 /* ---------------------------------------------------------------- naming */
 
-/* The key part of an override "key=value" equals `key` or holds it (a
- * group override, --set time={...}). */
-static bool override_sets(const char *override, const char *key) {
-    const char *eq = strchr(override, '=');
-    if (!eq) return false;
-    const size_t n = (size_t)(eq - override);
-    return strncmp(override, key, n) == 0 && (key[n] == '\0' || key[n] == '.');
-}
-
-/* Where `key` got its value, in the scene-error format's prefix:
- * "--set KEY=VALUE: KEY" for the last override that set it (overrides apply
- * in order), else "FILE:LINE: KEY" with the line of the key in the scene
- * file, or of the nearest group holding it where the key is left at its
- * default, else "FILE: KEY".  Returns whether the key is given (by the file
- * or an override) rather than defaulted.  The scene keeps no lines after
- * loading, so the file is read again: a restart's scene, stored in its
- * checkpoint, has none to give. */
+/* Where `key` got its value (sph_scene_key_where): whether it is given. */
 static bool where_of_key(const sph_scene *sc, const sph_work_request *rq, const char *key,
                          char *buf, size_t size) {
-    for (int k = rq->noverrides - 1; k >= 0; --k)
-        if (override_sets(rq->overrides[k], key)) {
-            sph_format(buf, size, "--set %s: %s", rq->overrides[k], key);
-            return true;
-        }
-    config_t cfg;
-    config_init(&cfg);
-    char dir[SPH_SCENE_PATH_LEN];
-    snprintf(dir, sizeof dir, "%s", sc->path);
-    char *slash = strrchr(dir, '/');
-    if (slash) {
-        *slash = '\0';
-        config_set_include_dir(&cfg, dir[0] ? dir : "/");
-    }
-    unsigned line = 0;
-    bool given = false;
-    if (config_read_file(&cfg, sc->path) == CONFIG_TRUE) {
-        char path[256];
-        snprintf(path, sizeof path, "%s", key);
-        for (;;) {
-            const config_setting_t *s = config_lookup(&cfg, path);
-            if (s) {
-                given = strcmp(path, key) == 0;
-                line = config_setting_source_line(s);
-                break;
-            }
-            char *dot = strrchr(path, '.');
-            if (!dot) break;
-            *dot = '\0';
-        }
-    }
-    config_destroy(&cfg);
-    if (line > 0)
-        sph_format(buf, size, "%s:%u: %s", sc->path, line, key);
-    else
-        sph_format(buf, size, "%s: %s", sc->path, key);
-    return given;
-}
-
-/* 1.5 KiB, 3.2 GiB, ... (1024-based, as the memory messages). */
-static void format_bytes(double b, char *buf, size_t size) {
-    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
-    int k = 0;
-    while (b >= 1024.0 && k < 6) {
-        b /= 1024.0;
-        ++k;
-    }
-    sph_format(buf, size, k == 0 ? "%.0f %s" : "%.3g %s", b, unit[k]);
+    return sph_scene_key_where(sc, rq->overrides, rq->noverrides, key, buf, size);
 }
 
 /* ------------------------------------------------------------ estimating */
@@ -308,9 +246,9 @@ sph_status sph_work_check(const sph_scene *sc, const sph_particles *p, const sph
         }
         if (!given) where_of_key(sc, rq, "time.output_interval", where, sizeof where);
         char total[32], each[32], room[32];
-        format_bytes(e->bytes, total, sizeof total);
-        format_bytes(e->snapshot_bytes, each, sizeof each);
-        format_bytes(e->free_bytes, room, sizeof room);
+        sph_format_bytes(e->bytes, total, sizeof total);
+        sph_format_bytes(e->snapshot_bytes, each, sizeof each);
+        sph_format_bytes(e->free_bytes, room, sizeof room);
         char snaps[160] = "no snapshots";
         if (e->snapshots > 0)
             sph_format(snaps, sizeof snaps, "%.3g snapshots of about %s every %.3g s", e->snapshots,

@@ -500,16 +500,16 @@ ROWS = [
                                 "--set", "output.snapshot_interval=0"])),
     within(20, Row("outputs every 1e-9 s for 1e6 s: exabytes against the free disk", 2,
                    ["--set time.output_interval=1e-9: time.output_interval: the run would write "
-                    "about 4.84 EiB (1e+14 snapshots of about 52.8 KiB every 1e-08 s, and a row "
+                    "about 4.8 EiB (1e+14 snapshots of about 52.8 KiB every 1e-08 s, and a row "
                     "of timeseries.csv at each of 1e+15 output times 1e-09 s apart) to {out}, "
                     "whose filesystem has",
                     "write less often (time.output_interval, output.snapshot_interval)"],
                    args=FAST + ["--set", "time.end=1e6", "--set", "time.output_interval=1e-9"])),
     Row("snapshots beyond the free disk (SPHSOLID_TEST_FREE_BYTES = 1e6)", 2,
         ["--set output.snapshot_interval=1e-4: output.snapshot_interval: the run would write "
-         "about 5.23 MiB (101 snapshots of about 52.8 KiB every 0.0001 s, and a row of "
+         "about 5.2 MiB (101 snapshots of about 52.8 KiB every 0.0001 s, and a row of "
          "timeseries.csv at each of 100 output times 0.0001 s apart) to {out}, whose filesystem "
-         "has 977 KiB free"],
+         "has 976.6 KiB free"],
         args=FAST + ["--set", "time.output_interval=1e-4", "--set",
                      "output.snapshot_interval=1e-4"],
         env={"SPHSOLID_TEST_FREE_BYTES": "1e6"}),
