@@ -5,6 +5,8 @@
 #include "kernel_study.h"
 
 #include "backend_cpu.h"
+#include "grid.h"
+#include "output.h"
 #include "particles.h"
 #include "scene.h"
 #include "shape_sdf.h"
@@ -283,60 +285,6 @@ static sph_status relax_disc(const ks_options *o, const ks_case *c, ks_result *r
     return st;
 }
 
-/* Cell list over the particles' bounding box, cells of the support 2h. */
-typedef struct {
-    double lo[2], cell;
-    int dims[2];
-    int *start; /* [ncells + 1] */
-    int *order; /* [n] particles sorted by cell */
-} ks_cells;
-
-static int cell_index(const ks_cells *g, int a, double x) {
-    const int c = (int)floor((x - g->lo[a]) / g->cell);
-    return c < 0 ? 0 : c >= g->dims[a] ? g->dims[a] - 1 : c;
-}
-
-static sph_status cells_build(ks_cells *g, const double *pos, int n, double cutoff,
-                              sph_error *err) {
-    memset(g, 0, sizeof *g);
-    g->cell = cutoff;
-    for (int a = 0; a < 2; a++) {
-        double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i < n; i++) lo = fmin(lo, pos[a * n + i]), hi = fmax(hi, pos[a * n + i]);
-        g->lo[a] = lo;
-        g->dims[a] = (int)floor((hi - lo) / cutoff) + 1;
-    }
-    const size_t ncells = (size_t)g->dims[0] * (size_t)g->dims[1];
-    g->start = calloc(ncells + 1, sizeof *g->start);
-    g->order = malloc((size_t)n * sizeof *g->order);
-    int *cursor = malloc(ncells * sizeof *cursor);
-    if (!g->start || !g->order || !cursor) {
-        free(cursor);
-        free(g->start);
-        free(g->order);
-        return sph_fail(err, SPH_ERR_RUNTIME, "out of memory for the study's cell list");
-    }
-    for (int i = 0; i < n; i++) {
-        const size_t c = (size_t)cell_index(g, 0, pos[i]) +
-                         (size_t)g->dims[0] * (size_t)cell_index(g, 1, pos[n + i]);
-        g->start[c + 1]++;
-    }
-    for (size_t c = 0; c < ncells; c++) g->start[c + 1] += g->start[c];
-    memcpy(cursor, g->start, ncells * sizeof *cursor);
-    for (int i = 0; i < n; i++) {
-        const size_t c = (size_t)cell_index(g, 0, pos[i]) +
-                         (size_t)g->dims[0] * (size_t)cell_index(g, 1, pos[n + i]);
-        g->order[cursor[c]++] = i;
-    }
-    free(cursor);
-    return SPH_OK;
-}
-
-static void cells_free(ks_cells *g) {
-    free(g->start);
-    free(g->order);
-}
-
 /* Per-particle errors: e[corrected][function] and its x component. */
 typedef struct {
     double e[2][NFUNC], ex[2][NFUNC];
@@ -353,20 +301,21 @@ typedef struct {
  *   A_f = sum_j (f_i + f_j) grad_i W_ij V_j     (eq. 6's approximation)
  * and the errors |grad f_i - A_f| and, corrected, |grad f_i - B_i A_f|
  * (grad_i W_ij replaced by B_i grad_i W_ij). */
-static void particle_errors(const ks_cells *g, const double *pos, int n, int i, double volume,
+static void particle_errors(const sph_cell_list *cl, const double *pos, int n, int i, double volume,
                             const cpu_kernels *k, const sph_params_f64 *prm, ks_particle *out) {
     const double cutoff = 2.0 * prm->h;
     const double xi = pos[i], yi = pos[n + i];
     const double fi[NFUNC] = {1.0, sin(TWO_PI * xi)};
     double g0[2] = {0, 0}, m[2][2] = {{0, 0}, {0, 0}}, af[NFUNC][2] = {{0, 0}, {0, 0}};
-    const int cx = cell_index(g, 0, xi), cy = cell_index(g, 1, yi);
+    const sph_grid *g = &cl->grid;
+    const int cx = sph_grid_coord(g, 0, xi), cy = sph_grid_coord(g, 1, yi);
     for (int dy = -1; dy <= 1; dy++)
         for (int dx = -1; dx <= 1; dx++) {
             const int ax = cx + dx, ay = cy + dy;
             if (ax < 0 || ay < 0 || ax >= g->dims[0] || ay >= g->dims[1]) continue;
             const size_t c = (size_t)ax + (size_t)g->dims[0] * (size_t)ay;
-            for (int q = g->start[c]; q < g->start[c + 1]; q++) {
-                const int j = g->order[q];
+            for (int q = cl->start[c]; q < cl->start[c + 1]; q++) {
+                const int j = cl->order[q];
                 if (j == i) continue;
                 const double rx = xi - pos[j], ry = yi - pos[n + j];
                 const double r2 = rx * rx + ry * ry;
@@ -417,14 +366,17 @@ static sph_status measure(ks_result *r, double exclude, sph_error *err) {
     prm->dp = r->dp;
     /* the kernel of the physics source (device/sph_smoothing_kernel.h) */
     const cpu_kernels *k = cpu_kernels_for(2, true);
-    ks_cells g;
-    sph_status st = cells_build(&g, r->pos, n, 2.0 * r->h, err);
-    if (st) return st;
+    sph_cell_list g = {0};
+    sph_status st = sph_cell_list_build(&g, 2, r->pos, n, 2.0 * r->h, err);
+    if (st) {
+        sph_cell_list_free(&g);
+        return st;
+    }
     ks_particle *pe = malloc((size_t)(n > 0 ? n : 1) * sizeof *pe);
     r->residue = malloc((size_t)(n > 0 ? n : 1) * sizeof *r->residue);
     if (!pe || !r->residue) {
         free(pe);
-        cells_free(&g);
+        sph_cell_list_free(&g);
         return sph_fail(err, SPH_ERR_RUNTIME, "out of memory measuring %d particles", n);
     }
     const double volume = r->dp * r->dp;
@@ -452,7 +404,7 @@ static sph_status measure(ks_result *r, double exclude, sph_error *err) {
             }
     }
     free(pe);
-    cells_free(&g);
+    sph_cell_list_free(&g);
     if (count == 0)
         return sph_fail(err, SPH_ERR_INPUT,
                         "%s at kappa = %g: no particle lies %g h = %g from the disc's surface; "
@@ -488,26 +440,6 @@ static sph_status run_case(const ks_options *o, const ks_case *c, ks_result *r, 
 /* ------------------------------------------------------------------------ */
 /* output                                                                     */
 /* ------------------------------------------------------------------------ */
-
-static sph_status make_dirs(const char *path, sph_error *err) {
-    char buf[4096];
-    if (strlen(path) >= sizeof buf) return sph_fail(err, SPH_ERR_INPUT, "--out: path too long");
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1;; p++) {
-        const bool end = *p == '\0';
-        if (*p == '/' || end) {
-            *p = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-                return sph_fail(err, SPH_ERR_RUNTIME, "cannot create %s: %s", buf, strerror(errno));
-            if (end) break;
-            *p = '/';
-        }
-    }
-    struct stat sb;
-    if (stat(path, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        return sph_fail(err, SPH_ERR_RUNTIME, "%s is not a directory", path);
-    return SPH_OK;
-}
 
 static void csv_name(const ks_result *r, char *buf, size_t len) {
     sph_format(buf, len, "residues_%s_%g.csv", sph_kernel_name(r->c.kernel), r->c.kappa);
@@ -616,7 +548,7 @@ static json_object *build_json(const ks_options *o, const ks_result *res, int nr
  * no file that looks complete (the partials are removed). */
 static sph_status write_outputs(const ks_options *o, const ks_result *res, int nres,
                                 sph_error *err) {
-    sph_status st = make_dirs(o->out, err);
+    sph_status st = sph_output_make_dirs(o->out, err);
     if (st) return st;
     const int nfiles = nres + 1; /* the CSVs, then the JSON last */
     char(*final)[4200] = calloc((size_t)nfiles, sizeof *final);

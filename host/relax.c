@@ -91,23 +91,16 @@ typedef struct {
      * background mesh of spacing `mesh` (build_boundary_mesh) */
     double mesh_origin[3], mesh;
     int mesh_dims[3];
-    double *bmesh; /* [dim][mesh points] */
-    /* cell list, rebuilt at every evaluation */
-    sph_grid grid;
-    long ncells_alloc;
-    int *cell_start; /* [ncells + 1] */
-    int *order;      /* [n] particles sorted by cell */
-    int *cell_of;    /* [n] */
-    double *acc;     /* [dim * n] */
-    double *res;     /* [n] residual of each particle */
-    double *dmin;    /* [n] closest neighbour of each particle */
+    double *bmesh;       /* [dim][mesh points] */
+    sph_cell_list cells; /* rebuilt at every evaluation */
+    double *acc;         /* [dim * n] */
+    double *res;         /* [n] residual of each particle */
+    double *dmin;        /* [n] closest neighbour of each particle */
 } relax_state;
 
 static void state_free(relax_state *s) {
     free(s->bmesh);
-    free(s->cell_start);
-    free(s->order);
-    free(s->cell_of);
+    sph_cell_list_free(&s->cells);
     free(s->acc);
     free(s->res);
     free(s->dmin);
@@ -276,12 +269,10 @@ static sph_status state_init(relax_state *s, const sph_scene *scene, int body, i
     kernel_prm(scene->kernel, s->h, s->prm);
     s->k = cpu_kernels_for(scene->dim, true);
     const size_t un = (size_t)(n > 0 ? n : 1);
-    s->order = malloc(un * sizeof *s->order);
-    s->cell_of = malloc(un * sizeof *s->cell_of);
     s->acc = malloc((size_t)s->dim * un * sizeof *s->acc);
     s->res = malloc(un * sizeof *s->res);
     s->dmin = malloc(un * sizeof *s->dmin);
-    if (!s->order || !s->cell_of || !s->acc || !s->res || !s->dmin) {
+    if (!s->acc || !s->res || !s->dmin) {
         state_free(s);
         return sph_fail(err, SPH_ERR_RUNTIME, "out of memory relaxing %d particles of body '%s'", n,
                         scene->bodies[body].name);
@@ -291,64 +282,18 @@ static sph_status state_init(relax_state *s, const sph_scene *scene, int body, i
     return st;
 }
 
-static int cell_coord(const sph_grid *g, int a, double x) {
-    const long c = (long)floor((x - g->origin[a]) / g->cell);
-    return c < 0 ? 0 : c >= g->dims[a] ? g->dims[a] - 1 : (int)c;
-}
-
-/* Sort the particles into cells (counting sort, in particle order, so the
- * neighbour order and every sum are the same on every run). */
-static sph_status build_cells(relax_state *s, const double *pos, sph_error *err) {
-    const int dim = s->dim, n = s->n;
-    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (int a = 0; a < dim; a++) {
-        lo[a] = INFINITY, hi[a] = -INFINITY;
-        for (int i = 0; i < n; i++) {
-            const double x = pos[(size_t)a * n + i];
-            lo[a] = fmin(lo[a], x), hi[a] = fmax(hi[a], x);
-        }
-    }
-    sph_status st = sph_grid_from_bounds(dim, lo, hi, s->cutoff, n, &s->grid, err);
-    if (st) return st;
-    if (s->grid.ncells + 1 > s->ncells_alloc) {
-        free(s->cell_start);
-        s->ncells_alloc = s->grid.ncells + 1;
-        s->cell_start = malloc((size_t)s->ncells_alloc * sizeof *s->cell_start);
-        if (!s->cell_start) {
-            s->ncells_alloc = 0;
-            return sph_fail(err, SPH_ERR_RUNTIME, "out of memory building the relaxation's cells");
-        }
-    }
-    memset(s->cell_start, 0, (size_t)(s->grid.ncells + 1) * sizeof *s->cell_start);
-    for (int i = 0; i < n; i++) {
-        long c = 0;
-        for (int a = dim - 1; a >= 0; a--)
-            c = c * s->grid.dims[a] + cell_coord(&s->grid, a, pos[(size_t)a * n + i]);
-        s->cell_of[i] = (int)c;
-        s->cell_start[c + 1]++;
-    }
-    for (long c = 0; c < s->grid.ncells; c++) s->cell_start[c + 1] += s->cell_start[c];
-    /* fill each cell in particle order */
-    int *cursor = malloc((size_t)s->grid.ncells * sizeof *cursor);
-    if (!cursor) return sph_fail(err, SPH_ERR_RUNTIME, "out of memory building the cells");
-    memcpy(cursor, s->cell_start, (size_t)s->grid.ncells * sizeof *cursor);
-    for (int i = 0; i < n; i++) s->order[cursor[s->cell_of[i]]++] = i;
-    free(cursor);
-    return SPH_OK;
-}
-
 /* acc_i = -2 (sum_j grad_i W_ij V + G(d_i) n_i), res_i = |...| h, and each
  * particle's closest neighbour. */
 static void evaluate(relax_state *s, const double *pos) {
     const int dim = s->dim, n = s->n;
-    const sph_grid *g = &s->grid;
+    const sph_grid *g = &s->cells.grid;
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n; i++) {
         double xi[3] = {0, 0, 0}, sum[3] = {0, 0, 0};
         int ci[3] = {0, 0, 0};
         for (int a = 0; a < dim; a++) {
             xi[a] = pos[(size_t)a * n + i];
-            ci[a] = cell_coord(g, a, xi[a]);
+            ci[a] = sph_grid_coord(g, a, xi[a]);
         }
         double dmin2 = INFINITY;
         const int zr = dim == 3 ? 1 : 0;
@@ -360,8 +305,8 @@ static void evaluate(relax_state *s, const double *pos) {
                     for (int a = 0; a < dim; a++) inside &= c[a] >= 0 && c[a] < g->dims[a];
                     if (!inside) continue;
                     const long cell = c[0] + (long)g->dims[0] * (c[1] + (long)g->dims[1] * c[2]);
-                    for (int q = s->cell_start[cell]; q < s->cell_start[cell + 1]; q++) {
-                        const int j = s->order[q];
+                    for (int q = s->cells.start[cell]; q < s->cells.start[cell + 1]; q++) {
+                        const int j = s->cells.order[q];
                         if (j == i) continue;
                         double d[3] = {0, 0, 0}, r2 = 0.0;
                         for (int a = 0; a < dim; a++) {
@@ -445,7 +390,7 @@ sph_status sph_relax_residual(const sph_scene *scene, int body, int n, const dou
     relax_state s;
     sph_status st = state_init(&s, scene, body, n, err);
     if (st) return st;
-    st = build_cells(&s, pos, err);
+    st = sph_cell_list_build(&s.cells, s.dim, pos, s.n, s.cutoff, err);
     if (!st) {
         evaluate(&s, pos);
         summarise(&s, mean, max, min_distance);
@@ -473,7 +418,7 @@ sph_status sph_relax_positions(const sph_scene *scene, int body, int n, double *
     const int dim = s.dim;
     rep->relaxed = true;
     rep->particles = n;
-    if ((st = build_cells(&s, pos, err))) goto done;
+    if ((st = sph_cell_list_build(&s.cells, s.dim, pos, s.n, s.cutoff, err))) goto done;
     evaluate(&s, pos);
     summarise(&s, &rep->lattice_mean, &rep->lattice_max, NULL);
 
@@ -494,7 +439,7 @@ sph_status sph_relax_positions(const sph_scene *scene, int body, int n, double *
     int step = 0;
     double amax_start = 0.0;
     for (;; step++) {
-        if ((st = build_cells(&s, pos, err))) goto done;
+        if ((st = sph_cell_list_build(&s.cells, s.dim, pos, s.n, s.cutoff, err))) goto done;
         evaluate(&s, pos);
         double mean, max, dmin;
         summarise(&s, &mean, &max, &dmin);
