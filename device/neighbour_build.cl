@@ -227,10 +227,43 @@ KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restri
  * (x_i - x_j) + s (v_i - v_j). */
 #if SPH_PAIR_RECOMPUTE
 #    define BUILD_PAIR_OFFSET(j) hvec_diff(pair_pos, n, i, (j))
+#elif SPH_HAS_EULERIAN
+/* fixed particles (eulerian_step.cl): no shift; across a periodic axis the
+ * nearest image (unique: a period is at least two cut-offs, host/scene.c) */
+#    define BUILD_PAIR_OFFSET(j) periodic_image(prm, hvec_diff(pos, n, i, (j)))
 #else
 #    define BUILD_PAIR_OFFSET(j)                                                                   \
         vec_axpy(hvec_diff(pos, n, i, (j)), geometry_shift, vec_sub(v_i, vec_load(vel, n, (j))))
 #endif
+
+/* The offset d = x_i - x_j of the nearest images along the periodic axes:
+ * d - L rint(d / L), odd in d (rint(-x) = -rint(x)), so d_ji = -d_ij exactly. */
+FN vec periodic_image(CONSTANT sph_params *prm, vec d) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) if (prm->periodic_mask & (1 << a)) {
+        const real period = prm->period[a];
+        d.c[a] -= period * rint(d.c[a] / period);
+    }
+    return d;
+}
+
+/* The cells of the stencil along one axis, in increasing order, each once:
+ * c - 1 .. c + 1 clipped to the grid, or on a periodic axis wrapped around
+ * it (all of its cells when it has fewer than three). */
+FN int stencil_cells(const int c, const int cells, const bool periodic, int *out) {
+    int m = 0;
+    if (!periodic) {
+        for (int x = c > 0 ? c - 1 : 0; x <= (c < cells - 1 ? c + 1 : cells - 1); ++x) out[m++] = x;
+    } else if (cells < 3) {
+        for (int x = 0; x < cells; ++x) out[m++] = x;
+    } else if (c == 0) {
+        out[0] = 0, out[1] = 1, out[2] = cells - 1, m = 3;
+    } else if (c == cells - 1) {
+        out[0] = 0, out[1] = cells - 2, out[2] = cells - 1, m = 3;
+    } else {
+        out[0] = c - 1, out[1] = c, out[2] = c + 1, m = 3;
+    }
+    return m;
+}
 
 /* Candidates tested per batch before their pairs are built: 32 on CPUs
  * (the native backend, and OpenCL CPU devices, which take the row-major
@@ -265,24 +298,34 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT sph
     const real cutoff = prm->cutoff;
     const real cutoff2 = cutoff * cutoff;
     const kernel_gradient grad_w = kernel_gradient_of(prm);
-#if !SPH_PAIR_RECOMPUTE
+#if !SPH_PAIR_RECOMPUTE && !SPH_HAS_EULERIAN
     const vec v_i = vec_load(vel, n, i);
+#elif !SPH_PAIR_RECOMPUTE
+    (void)vel;
+    (void)geometry_shift;
 #endif
     /* the particle's cell from its sorted key (cell_keys), not recomputed:
      * every particle is searched from the cell it is filed under */
     const int cell = key_cell(keys[i]);
     const int cx = cell % gx;
+#if SPH_HAS_EULERIAN
+    const int wrap = prm->periodic_mask;
+#else
+    const int wrap = 0;
+#endif
+    int xs[3], ys[3], zs[3];
+    const int nx = stencil_cells(cx, gx, (wrap & 1) != 0, xs);
 #if SPH_DIM == 3
     const int cy = (cell / gx) % gy;
     const int cz = cell / (gx * gy);
-    const int z_lo = cz > 0 ? cz - 1 : 0, z_hi = cz < gz - 1 ? cz + 1 : gz - 1;
+    const int nz = stencil_cells(cz, gz, (wrap & 4) != 0, zs);
 #else
     const int cy = cell / gx;
-    const int z_lo = 0, z_hi = 0;
+    const int nz = 1;
+    zs[0] = 0;
     (void)gz;
 #endif
-    const int y_lo = cy > 0 ? cy - 1 : 0, y_hi = cy < gy - 1 ? cy + 1 : gy - 1;
-    const int x_lo = cx > 0 ? cx - 1 : 0, x_hi = cx < gx - 1 ? cx + 1 : gx - 1;
+    const int ny = stencil_cells(cy, gy, (wrap & 2) != 0, ys);
 
     int count = 0, ncontact = 0;
 #if SPH_HAS_CONTACT
@@ -290,66 +333,72 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT sph
     const int body_i = separate ? (int)body[i] : 0;
 #endif
     mat moment = mat_zero();
-    for (int z = z_lo; z <= z_hi; ++z)
-        for (int y = y_lo; y <= y_hi; ++y) {
-            /* cells (x_lo..x_hi, y, z) are contiguous in the sorted order */
-            const int row = gx * (y + gy * z);
-            int j_begin = -1, j_end = -1;
-            for (int x = x_lo; x <= x_hi; ++x) {
-                const int c = row + x;
-                if (cell_end[c] > cell_start[c]) {
-                    if (j_begin < 0) j_begin = cell_start[c];
-                    j_end = cell_end[c];
-                }
-            }
-            /* the candidates in batches: first which lie within the
-             * cut-off, without a branch (on a CPU a third of them do, in
-             * an order the branch predictor cannot learn), then the pairs */
-            for (int j0 = j_begin; j0 < j_end; j0 += SPH_BUILD_BATCH) {
-                const int j1 = j0 + SPH_BUILD_BATCH < j_end ? j0 + SPH_BUILD_BATCH : j_end;
-                int within[SPH_BUILD_BATCH];
-                int m = 0;
-                for (int j = j0; j < j1; ++j) {
-                    const vec d = BUILD_PAIR_OFFSET(j);
-                    const real r2 = vec_dot(d, d);
-                    /* coincident particles (and i itself, d = 0 exactly)
-                     * have no direction: left out of the sums (the
-                     * instability monitor reports such clustering) */
-                    within[m] = j;
-                    m += (r2 < cutoff2) & (r2 > R(0));
-                }
-                for (int k = 0; k < m; ++k) {
-                    const int j = within[k];
-                    const vec d = BUILD_PAIR_OFFSET(j);
-                    const real r2 = vec_dot(d, d);
-#if SPH_HAS_CONTACT
-                    if (separate && (int)body[j] != body_i) {
-                        if (count + ncontact < cap) nbr_j[NBR_AT(i, cap - 1 - ncontact)] = j;
-                        ++ncontact;
-                        continue;
+    for (int iz = 0; iz < nz; ++iz)
+        for (int iy = 0; iy < ny; ++iy)
+            /* runs of consecutive x cells (one run unless a periodic x axis
+             * wraps the stencil around), contiguous in the sorted order */
+            for (int ix = 0; ix < nx;) {
+                const int row = gx * (ys[iy] + gy * zs[iz]);
+                int ix_end = ix;
+                while (ix_end + 1 < nx && xs[ix_end + 1] == xs[ix_end] + 1) ++ix_end;
+                int j_begin = -1, j_end = -1;
+                for (int x = xs[ix]; x <= xs[ix_end]; ++x) {
+                    const int c = row + x;
+                    if (cell_end[c] > cell_start[c]) {
+                        if (j_begin < 0) j_begin = cell_start[c];
+                        j_end = cell_end[c];
                     }
+                }
+                ix = ix_end + 1;
+                /* the candidates in batches: first which lie within the
+                 * cut-off, without a branch (on a CPU a third of them do, in
+                 * an order the branch predictor cannot learn), then the pairs */
+                for (int j0 = j_begin; j0 < j_end; j0 += SPH_BUILD_BATCH) {
+                    const int j1 = j0 + SPH_BUILD_BATCH < j_end ? j0 + SPH_BUILD_BATCH : j_end;
+                    int within[SPH_BUILD_BATCH];
+                    int m = 0;
+                    for (int j = j0; j < j1; ++j) {
+                        const vec d = BUILD_PAIR_OFFSET(j);
+                        const real r2 = vec_dot(d, d);
+                        /* coincident particles (and i itself, d = 0 exactly)
+                         * have no direction: left out of the sums (the
+                         * instability monitor reports such clustering) */
+                        within[m] = j;
+                        m += (r2 < cutoff2) & (r2 > R(0));
+                    }
+                    for (int k = 0; k < m; ++k) {
+                        const int j = within[k];
+                        const vec d = BUILD_PAIR_OFFSET(j);
+                        const real r2 = vec_dot(d, d);
+#if SPH_HAS_CONTACT
+                        if (separate && (int)body[j] != body_i) {
+                            if (count + ncontact < cap) nbr_j[NBR_AT(i, cap - 1 - ncontact)] = j;
+                            ++ncontact;
+                            continue;
+                        }
 #endif
-                    const real r = sqrt(r2);
-                    const vec e = vec_scale(d, R(1) / r);
-                    const real dwv = kernel_dw_at(grad_w, r) * vol[j];
-                    if (count + ncontact < cap) {
-                        const int slot = NBR_AT(i, count);
-                        nbr_j[slot] = j;
+                        const real r = sqrt(r2);
+                        const vec e = vec_scale(d, R(1) / r);
+                        const real dwv = kernel_dw_at(grad_w, r) * vol[j];
+                        if (count + ncontact < cap) {
+                            const int slot = NBR_AT(i, count);
+                            nbr_j[slot] = j;
 #if !SPH_PAIR_RECOMPUTE
-                        UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e.c[a];
-                        pair_dwv[slot] = dwv;
-                        pair_inv_r[slot] = R(1) / r;
+                            UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] =
+                                e.c[a];
+                            pair_dwv[slot] = dwv;
+                            pair_inv_r[slot] = R(1) / r;
 #endif
 #if SPH_HAS_TLSPH
-                        if (PRESENT(pair_w)) pair_w[slot] = kernel_w(prm, r) * vol[j] / r2;
+                            if (PRESENT(pair_w)) pair_w[slot] = kernel_w(prm, r) * vol[j] / r2;
 #endif
+                        }
+                        /* A_i = -sum r_ij dW V_j e (x) e, 003 eq. 21 */
+                        moment = mat_add_outer(moment, -r * dwv, e, e);
+                        ++count;
                     }
-                    /* A_i = -sum r_ij dW V_j e (x) e, 003 eq. 21 */
-                    moment = mat_add_outer(moment, -r * dwv, e, e);
-                    ++count;
                 }
             }
-        }
     if (count + ncontact > cap) ATOMIC_MAX_INT(overflow, count + ncontact);
     nbr_count[i] = count < cap ? count : cap;
 #if SPH_HAS_CONTACT

@@ -19,11 +19,17 @@
 #include "sph_rotation.h"
 #include "sph_elasticity.h"
 #include "sph_torque_projection.h"
+#include "eulerian_step.cl"
 
 #define REBUILD_NCOMP (2 * SPH_DIM + 2)
 #define SUBSTEP_NCOMP_MAX                                                                          \
     (1 + SPH_NBODIES * (SPH_DIM * SPH_DIM + (SPH_HAS_TORQUE_PROJECTION ? TORQUE_NCOMP : 0)))
-#define DIAG_NCOMP    (2 + SPH_DIM + NSPIN)
+/* fluids add the total mass and energy (eulerian_step.cl) */
+#if SPH_HAS_EULERIAN
+#    define DIAG_NCOMP (4 + SPH_DIM + NSPIN)
+#else
+#    define DIAG_NCOMP (2 + SPH_DIM + NSPIN)
+#endif
 #define DIAG_KINETIC  0
 #define DIAG_STRAIN   1
 #define DIAG_MOMENTUM 2
@@ -73,20 +79,41 @@ FN void combine_rows(const int ngroups, const int nmax, const int ncomp,
  * external acceleration: what the reference code's force array holds at the
  * start of an advection step (its density half-step resets it to the
  * dissipative force; reference notes §3.7, §4). */
+/* `state`: the dissipation acceleration (solids) or the pressure (fluids,
+ * whose initial pressure the upload holds) */
+#if SPH_HAS_EULERIAN
+#    define REBUILD_STATE_PARAM GLOBAL const real *restrict pressure
+#    define REBUILD_STATE_ARG   pressure
+#else
+#    define REBUILD_STATE_PARAM GLOBAL const real *restrict acc_diss
+#    define REBUILD_STATE_ARG   acc_diss
+#endif
 FN void rebuild_contrib(const int i, const int n, CONSTANT sph_params *prm, GLOBAL const hreal *pos,
                         GLOBAL const real *vel, GLOBAL const real *mass, GLOBAL const hreal *rho,
-                        GLOBAL real *vol, GLOBAL const real *acc_diss, real *c) {
-    /* ContinuumVolumeUpdate of the reference: V = m / rho at each rebuild */
-    vol[i] = (real)(mass[i] / rho[i]);
+                        GLOBAL real *vol, GLOBAL const real *state, real *c) {
     const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
     UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         c[a] = -x.c[a];
         c[SPH_DIM + a] = x.c[a];
     }
+#if SPH_HAS_EULERIAN
+    /* fluids: the volumes w_i are fixed (eulerian_step.cl); the first
+     * step's speed is the step clock's (eulerian_signal_speed2: the
+     * compressible pressure is the uploaded initial one, the WC speed does
+     * not need it) */
+    (void)mass;
+    (void)vol;
+    c[2 * SPH_DIM] = eulerian_signal_speed2(prm, (real)rho[i], state[i], v);
+    c[2 * SPH_DIM + 1] = R(0);
+#else
+    const GLOBAL real *acc_diss = state;
+    /* ContinuumVolumeUpdate of the reference: V = m / rho at each rebuild */
+    vol[i] = (real)(mass[i] / rho[i]);
     c[2 * SPH_DIM] = vec_dot(v, v);
     vec a = vec_load(acc_diss, n, i);
     UNROLL for (int d = 0; d < SPH_DIM; ++d) a.c[d] += prm->gravity[d];
     c[2 * SPH_DIM + 1] = R(4) * prm->h * sqrt(vec_dot(a, a));
+#endif
 }
 
 FN int substep_ncomp(CONSTANT sph_params *prm) {
@@ -101,8 +128,17 @@ FN int substep_ncomp(CONSTANT sph_params *prm) {
 FN void substep_contrib(const int i, const int n, const real dt, CONSTANT sph_params *prm,
                         GLOBAL const real *vel, GLOBAL const real *spin, GLOBAL const u8 *body,
                         GLOBAL const hreal *pos, GLOBAL const real *mass,
-                        GLOBAL const hreal *acc_shear, GLOBAL const real *dacc_shear, real *c) {
+                        GLOBAL const hreal *acc_shear, GLOBAL const real *dacc_shear,
+                        GLOBAL const hreal *rho, GLOBAL const real *pressure, real *c) {
     const vec v = vec_load(vel, n, i);
+#if SPH_HAS_EULERIAN
+    /* fluids: the step clock's signal speed, +inf for a state that cannot go on */
+    (void)dt, (void)spin, (void)body, (void)pos, (void)mass, (void)acc_shear, (void)dacc_shear;
+    c[0] = eulerian_signal_speed2(prm, (real)rho[i], pressure[i], v);
+    return;
+#else
+    (void)rho, (void)pressure;
+#endif
     const real v2 = vec_dot(v, v);
     /* the max reduction (fmax) would drop a NaN: make it the largest value,
      * so that the host sees a non-finite speed and stops (host/solver.c) */
@@ -204,11 +240,11 @@ FN void group_reduce_store(__local real *scratch, const real *c, const int nmax,
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 rebuild_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
-               GLOBAL const hreal *restrict rho, GLOBAL real *restrict vol,
-               GLOBAL const real *restrict acc_diss, GLOBAL real *restrict partials) {
+               GLOBAL const hreal *restrict rho, GLOBAL real *restrict vol, REBUILD_STATE_PARAM,
+               GLOBAL real *restrict partials) {
     REDUCE_SCRATCH;
     REDUCE_PARTICLES(REBUILD_NCOMP, REBUILD_NCOMP, REBUILD_NCOMP,
-                     rebuild_contrib(i, n, prm, pos, vel, mass, rho, vol, acc_diss, c));
+                     rebuild_contrib(i, n, prm, pos, vel, mass, rho, vol, REBUILD_STATE_ARG, c));
 }
 
 #    if SPH_HAS_ROTATION_AVG
@@ -225,6 +261,14 @@ rebuild_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restri
 #        define BODY_ARG 0
 #        define REDUCE_BODY_PARAMS
 #    endif
+#    if SPH_HAS_EULERIAN
+#        define FLUID_ARGS rho, pressure
+#        define REDUCE_FLUID_PARAMS                                                                \
+            , GLOBAL const hreal *restrict rho, GLOBAL const real *restrict pressure
+#    else
+#        define FLUID_ARGS 0, 0
+#        define REDUCE_FLUID_PARAMS
+#    endif
 #    if SPH_HAS_TORQUE_PROJECTION
 #        define TORQUE_ARGS pos, mass, acc_shear, dacc_shear
 #        define REDUCE_TORQUE_PARAMS                                                               \
@@ -234,16 +278,38 @@ rebuild_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restri
 #        define TORQUE_ARGS 0, 0, 0, 0
 #        define REDUCE_TORQUE_PARAMS
 #    endif
-__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce(
-    const int n, STEP_DT_PARAM, CONSTANT sph_params *prm, GLOBAL const real *restrict vel,
-    GLOBAL real *restrict partials REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS REDUCE_TORQUE_PARAMS) {
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+substep_reduce(const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
+               GLOBAL const real *restrict vel,
+               GLOBAL real *restrict partials REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS
+                   REDUCE_TORQUE_PARAMS REDUCE_FLUID_PARAMS) {
     REDUCE_SCRATCH;
     STEP_DT_BEGIN;
     const int ncomp = substep_ncomp(prm);
-    REDUCE_PARTICLES(1, ncomp, SUBSTEP_NCOMP_MAX,
-                     substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, TORQUE_ARGS, c));
+    REDUCE_PARTICLES(
+        1, ncomp, SUBSTEP_NCOMP_MAX,
+        substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, TORQUE_ARGS, FLUID_ARGS, c));
 }
 
+#    if SPH_HAS_EULERIAN
+#        if SPH_HAS_COMPRESSIBLE
+#            define DIAG_ENERGY_PARAM , GLOBAL const real *restrict energy
+#            define DIAG_ENERGY_ARG   energy
+#        else
+#            define DIAG_ENERGY_PARAM
+#            define DIAG_ENERGY_ARG 0
+#        endif
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
+                   GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
+                   GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
+                   GLOBAL real *restrict partials DIAG_ENERGY_PARAM) {
+    REDUCE_SCRATCH;
+    REDUCE_PARTICLES(
+        0, DIAG_NCOMP, DIAG_NCOMP,
+        eulerian_diagnostics_contrib(i, n, prm, pos, vel, mass, vol, pressure, DIAG_ENERGY_ARG, c));
+}
+#    else
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
@@ -253,6 +319,7 @@ diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *re
     REDUCE_PARTICLES(0, DIAG_NCOMP, DIAG_NCOMP,
                      diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, c));
 }
+#    endif
 
 /* Second stage, one work-group: row-wise combine of `ngroups` partial rows. */
 FN void finalize_rows(__local real *scratch, const int ngroups, const int nmax, const int ncomp,
@@ -305,17 +372,20 @@ substep_finalize(const int ngroups, const int ncomp, GLOBAL const real *restrict
  * combines the rows in order, the same sums as substep_finalize whoever
  * does them, advances the clock and resets the counter.  The others read
  * the clock before they count, so they never see it change mid-launch. */
-__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void substep_reduce_finish(
-    const int n, const int ngroups, CONSTANT sph_params *prm, GLOBAL const real *restrict vel,
-    GLOBAL real *partials, GLOBAL real *restrict result, GLOBAL double *step_clock,
-    volatile GLOBAL int *blocks_done REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS REDUCE_TORQUE_PARAMS) {
+__kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
+substep_reduce_finish(const int n, const int ngroups, CONSTANT sph_params *prm,
+                      GLOBAL const real *restrict vel, GLOBAL real *partials,
+                      GLOBAL real *restrict result, GLOBAL double *step_clock,
+                      volatile GLOBAL int *blocks_done REDUCE_SPIN_PARAMS REDUCE_BODY_PARAMS
+                          REDUCE_TORQUE_PARAMS REDUCE_FLUID_PARAMS) {
     if (step_clock[CLOCK_HALTED] != 0.0) return;
     const real dt = (real)step_clock[CLOCK_DT];
     const int ncomp = substep_ncomp(prm);
     const int g = get_global_id(0);
     if (g >= ngroups) return;
-    REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
-                 substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, TORQUE_ARGS, c));
+    REDUCE_BLOCK(
+        g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
+        substep_contrib(i, n, dt, prm, vel, SPIN_ARG, BODY_ARG, TORQUE_ARGS, FLUID_ARGS, c));
     mem_fence(CLK_GLOBAL_MEM_FENCE);
     if (atomic_inc(blocks_done) != ngroups - 1) return;
     mem_fence(CLK_GLOBAL_MEM_FENCE);

@@ -22,10 +22,15 @@
 #define FORMULATION_GNOG   4 /* 003 eqs. 43-45: stress divergence + penalty */
 #define FORMULATION_GNOG_A 5 /* 003 eqs. 46-49, Algorithm 2 */
 #define FORMULATION_TLSPH  6 /* total Lagrangian (001, 004 §3; hourglass control 002) */
+/* 004 §3.1: extended Eulerian SPH for fluids, fixed particles (eulerian_step.cl) */
+#define FORMULATION_EULERIAN_WC           7 /* weakly compressible, linearised Riemann solver */
+#define FORMULATION_EULERIAN_COMPRESSIBLE 8 /* ideal gas, HLLC, energy equation */
 /* What a formulation computes (f: a FORMULATION_* value). */
 #define FORM_IS_ENOG(f)        ((f) == FORMULATION_ENOG || (f) == FORMULATION_ENOG_A)
 #define FORM_HAS_STRESS_DIV(f) ((f) >= FORMULATION_OG && (f) <= FORMULATION_GNOG_A)
 #define FORM_HAS_PENALTY(f)    ((f) == FORMULATION_GNOG || (f) == FORMULATION_GNOG_A)
+#define FORM_IS_EULERIAN(f)                                                                        \
+    ((f) == FORMULATION_EULERIAN_WC || (f) == FORMULATION_EULERIAN_COMPRESSIBLE)
 
 /* Moments per body of the torque projection (device/sph_torque_projection.h,
  * TORQUE_NCOMP), for the host's buffer sizes: 18 in 2D, 34 in 3D. */

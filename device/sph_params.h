@@ -38,7 +38,9 @@
     X(S, T, REAL, bulk_modulus, 1, "K = rho0 c0^2, the stiffness of the equation of state")        \
     X(S, T, REAL, lambda, 1, "Lame's first parameter K - 2G/3 (TLSPH Saint Venant-Kirchhoff)")     \
     X(S, T, REAL, yield, 1, "J2 initial yield stress sigma_Y (003 eq. 11)")                        \
-    X(S, T, REAL, hardening, 1, "J2 linear isotropic hardening modulus kappa")
+    X(S, T, REAL, hardening, 1, "J2 linear isotropic hardening modulus kappa")                     \
+    X(S, T, REAL, viscosity, 1, "fluids: dynamic viscosity mu (004 eq. 13)")                       \
+    X(S, T, REAL, gamma, 1, "compressible fluids: ratio of specific heats (004 eq. 11)")
 
 /* A kinematic constraint (device/sph_constraints.h): along the axes of its
  * mask the velocity is the prescribed one (0 for a clamp or a roller). */
@@ -71,6 +73,7 @@
     X(S, T, REAL, hourglass, 1, "TLSPH hourglass-control coefficient alpha (002)")                 \
     X(S, T, REAL, contact_impedance, 1, "contact impedance factor (x 1/2 rho0 c0, sph_contact.h)") \
     X(S, T, REAL, contact_penalty, 1, "contact penalty factor (x rho0 c0^2, sph_contact.h)")       \
+    X(S, T, REALS, period, 3, "fluids: length of each periodic axis (0: not periodic)")            \
     X(S, T, MATERIALS, materials, SPH_MAX_MATERIALS, "the material table")                         \
     X(S, T, WALLS, walls, SPH_MAX_WALLS, "the wall table, nwalls rows used")                       \
     X(S, T, CONSTRAINTS, constraints, SPH_MAX_CONSTRAINTS, "the constraint table")                 \
@@ -81,7 +84,9 @@
     X(S, T, INT, rotation, 1, "native backend: ROTATION_*")                                        \
     X(S, T, INT, nbodies, 1, "native backend: number of bodies")                                   \
     X(S, T, INT, plastic, 1, "native backend: 1 for J2 plasticity")                                \
-    X(S, T, INT, torque_projection, 1, "native backend: 1 for the torque projection")
+    X(S, T, INT, torque_projection, 1, "native backend: 1 for the torque projection")              \
+    X(S, T, INT, periodic_mask, 1, "fluids: bit a set: axis a is periodic (neighbour_build.cl)")   \
+    X(S, T, INT, reserved, 1, "0; keeps the number of ints even (no tail padding in double)")
 
 /* Declarations: S names the instance (f32, f64), T is its real type. */
 #define SPH_DECL_REAL(S, T, name, n)           T name;

@@ -189,6 +189,12 @@ typedef uint64_t ulong;
 
 #define R(x) ((real)(x))
 
+/* The eulerian (fluid) formulations, fixed particles (eulerian_step.cl):
+ * compile-time in both dialects (each native instance is compiled for one
+ * formulation), so a solid program has none of their buffers or code. */
+#define SPH_HAS_EULERIAN     FORM_IS_EULERIAN(RUNTIME_FORMULATION)
+#define SPH_HAS_COMPRESSIBLE (RUNTIME_FORMULATION == FORMULATION_EULERIAN_COMPRESSIBLE)
+
 /* The substep size dt of the substep kernels: an argument, or (SPH_STEP_CLOCK)
  * the size the previous substep's substep_finalize planned in the step
  * clock.  A halted clock turns the substeps the host enqueued past the end of

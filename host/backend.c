@@ -90,6 +90,11 @@ void sph_diagnostics_unpack(const double *reduced, int dim, sph_diagnostics *out
         out->angular[2] = reduced[2 + dim];
     else
         for (int a = 0; a < 3; ++a) out->angular[a] = reduced[2 + dim + a];
+    /* fluids (device/eulerian_step.cl): mass and total energy follow; the
+     * callers' arrays hold zeros there for solids */
+    const int nspin = dim == 2 ? 1 : 3;
+    out->mass = reduced[2 + dim + nspin];
+    out->total_energy = reduced[3 + dim + nspin];
 }
 
 void sph_backend_record_buffer(sph_backend *be, const char *name, size_t bytes) {

@@ -67,6 +67,9 @@ typedef struct {
     double kinetic, strain;
     double momentum[3];
     double angular[3]; /* 2D: angular[2] = L_z */
+    /* fluids: total mass and total energy (kinetic + internal; `strain` is
+     * the internal energy, device/eulerian_step.cl); 0 for solids */
+    double mass, total_energy;
     /* instability monitor (device/monitor.cl), filled by the solver */
     double min_distance_ratio; /* smallest pair distance / dp */
     double gradient_scale;     /* the largest max |L_i| (Frobenius) of the run up to now */

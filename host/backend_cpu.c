@@ -138,6 +138,10 @@ static sph_status cpu_upload(sph_backend *be, const sph_particles *p, sph_error 
     memcpy(c->b.field[FIELD_ID], p->id, (size_t)n * sizeof(int32_t));
     if (c->b.field[FIELD_BODY]) memcpy(c->b.field[FIELD_BODY], p->body, (size_t)n);
     if (c->b.field[FIELD_FIXED]) memcpy(c->b.field[FIELD_FIXED], p->fixed, (size_t)n);
+    /* the compressible initial pressure (the WC one follows from rho by the
+     * EOS, and the total energy from the pressure: eulerian_prepare) */
+    if (c->b.field[FIELD_PRESSURE] && p->pressure)
+        for (int i = 0; i < n; ++i) set_field(be, FIELD_PRESSURE, (size_t)i, p->pressure[i]);
     memset(c->b.substep_sums, 0, SUBSTEP_SUMS_LEN * c->real_size);
     return SPH_OK;
 }
@@ -216,6 +220,8 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
                               : ((const sph_params_f64 *)c->b.prm)->cutoff;
     sph_status st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err);
     if (st) return st;
+    const sph_params_f64 *prm64 = c->real_size == sizeof(double) ? c->b.prm : NULL;
+    if (prm64) sph_grid_make_periodic(&grid, prm64->periodic_mask, prm64->period);
     if (grid.ncells > c->cells_allocated) {
         free(c->b.cell_start);
         free(c->b.cell_end);
@@ -239,6 +245,11 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         st = alloc_pairs(be, c, needed + needed / 4 + 2, err);
         if (st) return st;
     }
+    if (c->k->fluid_setup) {
+        t0 = phase_start(be);
+        c->k->fluid_setup(&c->b);
+        phase_end(be, "fluid setup", t0);
+    }
     info->max_neighbours = c->b.cap;
     return SPH_OK;
 }
@@ -256,7 +267,7 @@ static sph_status cpu_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     (void)err;
     cpu_impl *c = be->impl;
     const int d = be->features.dim;
-    double red[2 + 3 + 3];
+    double red[4 + 3 + 3] = {0}; /* fluids: 2 + d + (1 or 3), then mass and energy */
     const double t0 = phase_start(be);
     c->k->diagnostics(&c->b, red);
     phase_end(be, "diagnostics_reduce", t0);

@@ -45,6 +45,9 @@ typedef struct {
     /* the pair geometry at x + geometry_shift v (neighbour_build.cl) */
     int (*build_neighbours)(cpu_buffers *b, const sph_grid *g, double geometry_shift);
     void (*substep)(cpu_buffers *b, double dt, double *max_speed2);
+    /* fluids, once after the rebuild (eulerian_step.cl): the initial EOS
+     * state and the corrected pair gradients; NULL for solids */
+    void (*fluid_setup)(cpu_buffers *b);
     /* kinetic, strain, momentum (dim), angular (1 or 3) */
     void (*diagnostics)(cpu_buffers *b, double *out);
     /* instability monitor (device/monitor.cl): SPH_MONITOR_NCOMP(dim) values */
@@ -60,6 +63,8 @@ typedef struct {
     double (*kernel_dw)(const sph_params_f64 *prm, double r);
     /* the kernel integrated over a plane at the distance d (sph_wall.h) */
     double (*wall_plane_kernel)(const sph_params_f64 *prm, double d);
+    /* the ideal gas's sound speed sqrt(gamma p / rho) (sph_eulerian.h) */
+    double (*ideal_gas_sound_speed)(double p, double rho, double gamma);
     /* Rodrigues matrix (row-major dim x dim) of spin components w over dt */
     void (*rodrigues)(const double *w, double dt, double *rot);
     /* pair terms of sph_riemann.h for states i, j (vectors of length dim) */

@@ -11,6 +11,7 @@
 #include "neighbour_build.cl"
 #include "acoustic_step.cl"
 #include "tl_step.cl"
+#include "eulerian_step.cl"
 #include "reduction.cl"
 #include "monitor.cl"
 
@@ -40,11 +41,13 @@
 static void rebuild_reduce_impl(cpu_buffers *b, double *out) {
     real result[REBUILD_NCOMP];
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
+    /* the dissipation acceleration of solids, the pressure of fluids */
+    const real *state = F_REAL(b, SPH_HAS_EULERIAN ? FIELD_PRESSURE : FIELD_ACC_DISS);
 #pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, REBUILD_NCOMP, REBUILD_NCOMP, result,
                  rebuild_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                                  F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
-                                 F_REAL(b, FIELD_ACC_DISS), c));
+                                 state, c));
     for (int k = 0; k < REBUILD_NCOMP; ++k) out[k] = (double)result[k];
 }
 
@@ -119,11 +122,94 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                            F_REAL(b, FIELD_VEL), F_U8(b, FIELD_FIXED)),
                  substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
                                  F_U8(b, FIELD_BODY), F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_MASS),
-                                 F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR), c)));
+                                 F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
+                                 F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_PRESSURE), c)));
     }
     combine_rows(ngroups, 1, ncomp, partials, sums);
     *max_speed2 = (double)sums[0];
 }
+
+#if SPH_HAS_EULERIAN
+/* Once after the rebuild of a fluid run (eulerian_step.cl): the pressure
+ * (WC) or total energy (compressible) of the initial state, and the
+ * corrected pair gradients of eq. 18. */
+static void fluid_setup_impl(cpu_buffers *b) {
+    const int n = b->n, cap = b->cap;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
+#    pragma omp parallel if (b->parallel)
+    {
+#    pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            eulerian_prepare(i, n, prm, F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
+                             F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE)
+#    if SPH_HAS_COMPRESSIBLE
+                                                       ,
+                             F_REAL(b, FIELD_ENERGY), F_REAL(b, FIELD_ENERGY_RATE)
+#    endif
+            );
+#    pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            eulerian_correct_pairs(i, n, cap, b->nbr_count, b->nbr_j, F_REAL(b, FIELD_BMAT),
+                                   (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r);
+    }
+}
+
+/* One step of a fluid run (eulerian_step.cl) in one parallel region: the
+ * momentum rate, the mass and energy rates, then the update over fixed
+ * blocks of SPH_WG particles with the step clock's signal speed. */
+static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
+    const real dt = (real)dt_in;
+    const int n = b->n, cap = b->cap;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
+    real *sums = (real *)b->substep_sums;
+    real *partials = (real *)b->partials;
+    const int ngroups = (n + SPH_WG - 1) / SPH_WG;
+#    if SPH_HAS_COMPRESSIBLE
+#        define ENERGY_FIELD_ARG       , F_REAL(b, FIELD_ENERGY)
+#        define ENERGY_RATE_FIELD_ARGS , F_REAL(b, FIELD_ENERGY), F_REAL(b, FIELD_ENERGY_RATE)
+#    else
+#        define ENERGY_FIELD_ARG
+#        define ENERGY_RATE_FIELD_ARGS
+#    endif
+#    pragma omp parallel if (b->parallel)
+    {
+#    pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            eulerian_momentum_rate(
+                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
+                F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
+                F_REAL(b, FIELD_FORCE) ENERGY_FIELD_ARG, F_U8(b, FIELD_FIXED));
+#    pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            eulerian_mass_energy_rate(
+                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
+                F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_FORCE), F_REAL(b, FIELD_MASS_RATE),
+                F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS);
+#    pragma omp for schedule(static)
+        for (int g = 0; g < ngroups; ++g)
+            REDUCE_BLOCK(
+                g, n, 1, 1, SUBSTEP_NCOMP_MAX, partials,
+                (eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                                 F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
+                                 F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_FORCE),
+                                 F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS,
+                                 F_U8(b, FIELD_FIXED)),
+                 c[0] = eulerian_signal_speed2(prm, (real)F_HREAL(b, FIELD_RHO)[i],
+                                               F_REAL(b, FIELD_PRESSURE)[i],
+                                               vec_load(F_REAL(b, FIELD_VEL), n, i))));
+    }
+#    undef ENERGY_FIELD_ARG
+#    undef ENERGY_RATE_FIELD_ARGS
+    combine_rows(ngroups, 1, 1, partials, sums);
+    *max_speed2 = (double)sums[0];
+}
+#    define FLUID_SETUP fluid_setup_impl
+#else
+#    define FLUID_SETUP NULL
+#endif
 
 /* One substep in one parallel region: the pressure pass, the velocity-terms
  * pass, each in equal shares of the particles, then the reduction over fixed
@@ -133,6 +219,10 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
  * the 1612 particles of the H/dp = 10 plate as 4 blocks to one thread and 3
  * to the other.) */
 static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
+#if SPH_HAS_EULERIAN
+    fluid_substep_impl(b, dt_in, max_speed2);
+    return;
+#endif
     if (RUNTIME_FORMULATION == FORMULATION_TLSPH) { /* a constant of this instance */
         tl_substep_impl(b, dt_in, max_speed2);
         return;
@@ -183,7 +273,8 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                          substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
                                          F_U8(b, FIELD_BODY), F_HREAL(b, FIELD_POS),
                                          F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_ACC_SHEAR),
-                                         F_REAL(b, FIELD_DACC_SHEAR), c));
+                                         F_REAL(b, FIELD_DACC_SHEAR), F_HREAL(b, FIELD_RHO),
+                                         F_REAL(b, FIELD_PRESSURE), c));
         /* third pass of the stress-divergence formulations: reads the tau
          * and L of the neighbours written above */
         if (stress_div) {
@@ -205,11 +296,19 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 static void diagnostics_impl(cpu_buffers *b, double *out) {
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
     real result[DIAG_NCOMP];
-#pragma omp parallel if (b->parallel)
+#if SPH_HAS_EULERIAN
+#    pragma omp parallel if (b->parallel)
+    BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
+                 eulerian_diagnostics_contrib(
+                     i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                     F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_ENERGY), c));
+#else
+#    pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
                  diagnostics_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                                      F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO),
                                      F_HREAL(b, FIELD_TAU), c));
+#endif
     for (int k = 0; k < DIAG_NCOMP; ++k) out[k] = (double)result[k];
 }
 
@@ -237,6 +336,9 @@ static double probe_wall_plane_kernel(const sph_params_f64 *prm_in, double d) {
     sph_params prm[1];
     params_to_real(prm_in, prm);
     return (double)wall_plane_kernel(prm, (real)d);
+}
+static double probe_ideal_gas_sound_speed(double p, double rho, double gamma) {
+    return (double)ideal_gas_sound_speed((real)p, (real)rho, (real)gamma);
 }
 static void probe_rodrigues(const double *w_in, double dt, double *rot) {
     real w[NSPIN];
@@ -391,6 +493,7 @@ const cpu_kernels CPU_VARIANT = {
     .sort_by_cell = sort_by_cell_impl,
     .build_neighbours = build_neighbours_impl,
     .substep = substep_impl,
+    .fluid_setup = FLUID_SETUP,
     .diagnostics = diagnostics_impl,
     .monitor = monitor_impl,
     .monitor_particle = MONITOR_PARTICLE,
@@ -398,6 +501,7 @@ const cpu_kernels CPU_VARIANT = {
     .kernel_dw = probe_kernel_dw,
     .wall_plane_kernel = probe_wall_plane_kernel,
     .rodrigues = probe_rodrigues,
+    .ideal_gas_sound_speed = probe_ideal_gas_sound_speed,
     .riemann_pair = probe_riemann_pair,
     .stress_output = stress_output_impl,
     .stress_update = probe_stress_update,

@@ -66,6 +66,9 @@ typedef struct {
     sph_cl_kernel contact;                                    /* scenes with several bodies only */
     sph_cl_kernel tl_deformation, tl_acceleration, tl_update; /* TLSPH only */
     sph_cl_kernel shifted_positions;                          /* recomputed pair geometry only */
+    /* fluids only (eulerian_step.cl): once after the rebuild, then per step */
+    sph_cl_kernel eulerian_prepare, eulerian_correct_pairs;
+    sph_cl_kernel eulerian_momentum_rate, eulerian_mass_energy_rate, eulerian_update;
 } kernel_set;
 
 typedef struct {
@@ -97,6 +100,8 @@ typedef struct {
     bool pair_recompute; /* device/sph_pair_geometry.h */
     bool device_clock;   /* the substeps advance the step clock themselves */
     long cells_allocated;
+    int periodic_mask; /* fluids: periodic axes of the cell grid (host/grid.h) */
+    double period[3];
     sph_cl_arg res[RES_COUNT];
 } ocl_impl;
 
@@ -396,6 +401,9 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     if (!st) st = write_field(be, o, FIELD_MASS, p->mass, err);
     if (!st) st = write_field(be, o, FIELD_RHO, p->rho, err);
     if (!st) st = write_field(be, o, FIELD_VOL, vol, err);
+    /* the compressible initial pressure (eulerian_prepare derives the rest) */
+    if (!st && o->field[FIELD_PRESSURE] && p->pressure)
+        st = write_field(be, o, FIELD_PRESSURE, p->pressure, err);
     free(vol);
     if (st) return st;
     cl_int rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_ID], CL_TRUE, 0,
@@ -515,6 +523,7 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     sph_grid grid;
     st = sph_grid_from_bounds(d, info->lower, info->upper, o->cutoff, be->n, &grid, err);
     if (st) return st;
+    sph_grid_make_periodic(&grid, o->periodic_mask, o->period);
     if (grid.ncells > o->cells_allocated) {
         release(&o->cell_start);
         release(&o->cell_end);
@@ -561,6 +570,12 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         if (st || needed == 0) break;
         st = alloc_pairs(be, o, needed + needed / 4 + 2, err);
     }
+    /* fluids, once (the only rebuild): the initial EOS state and the
+     * corrected pair gradients (eulerian_step.cl) */
+    if (!st && o->k.eulerian_prepare.kernel)
+        st = launch(o, &o->k.eulerian_prepare, (size_t)be->n, o->item_wg, NULL, 0, err);
+    if (!st && o->k.eulerian_correct_pairs.kernel)
+        st = launch(o, &o->k.eulerian_correct_pairs, (size_t)be->n, o->item_wg, NULL, 0, err);
     info->max_neighbours = o->cap;
     return st;
 }
@@ -575,7 +590,12 @@ static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_err
     const size_t items = (size_t)o->n;
     const int ndt = dt_arg ? 1 : 0;
     sph_status st = SPH_OK;
-    if (o->k.tl_deformation.kernel) {
+    if (o->k.eulerian_update.kernel) {
+        st = launch(o, &o->k.eulerian_momentum_rate, items, o->item_wg, dt_arg, ndt, err);
+        if (!st)
+            st = launch(o, &o->k.eulerian_mass_energy_rate, items, o->item_wg, dt_arg, ndt, err);
+        if (!st) st = launch(o, &o->k.eulerian_update, items, o->item_wg, dt_arg, ndt, err);
+    } else if (o->k.tl_deformation.kernel) {
         st = launch(o, &o->k.tl_deformation, items, o->item_wg, dt_arg, ndt, err);
         if (!st) st = launch(o, &o->k.tl_acceleration, items, o->item_wg, dt_arg, ndt, err);
         if (!st) st = launch(o, &o->k.tl_update, items, o->item_wg, dt_arg, ndt, err);
@@ -677,8 +697,10 @@ static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_er
 static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_error *err) {
     ocl_impl *o = be->impl;
     const int d = be->features.dim;
-    const int ncomp = 2 + d + (d == 2 ? 1 : 3);
-    double red[8];
+    /* fluids add mass and total energy (reduction.cl, DIAG_NCOMP) */
+    const int ncomp =
+        2 + d + (d == 2 ? 1 : 3) + (FORM_IS_EULERIAN((int)be->features.formulation) ? 2 : 0);
+    double red[10] = {0};
     sph_status st = launch(o, &o->k.diagnostics_reduce, o->reduce_items, o->wg, NULL, 0, err);
     if (!st) st = finalize(o, 0, ncomp, o->result, err);
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
@@ -814,6 +836,7 @@ static void describe_kernels(sph_backend *be, const ocl_impl *o) {
 static sph_status create_kernels(ocl_impl *o, sph_error *err) {
     const sph_features *f = &o->be->features;
     const bool tlsph = f->formulation == SPH_FORMULATION_TLSPH;
+    const bool fluid = FORM_IS_EULERIAN((int)f->formulation), solid = !fluid;
     /* the kernels of this run's program: those of features the run lacks
      * are not in it (the -D options of sph_backend_opencl_create) */
     const struct {
@@ -843,8 +866,14 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
         {&o->k.tl_acceleration, "tl_acceleration", tlsph},
         {&o->k.tl_update, "tl_update", tlsph},
         {&o->k.contact, "acoustic_contact", !tlsph && f->contact},
-        {&o->k.pressure, "acoustic_pressure", true},
-        {&o->k.velocity_terms, "acoustic_velocity_terms", true},
+        {&o->k.pressure, "acoustic_pressure", solid},
+        {&o->k.velocity_terms, "acoustic_velocity_terms", solid},
+        /* the fluid formulations' passes (eulerian_step.cl) */
+        {&o->k.eulerian_prepare, "eulerian_prepare", fluid},
+        {&o->k.eulerian_correct_pairs, "eulerian_correct_pairs", fluid},
+        {&o->k.eulerian_momentum_rate, "eulerian_momentum_rate", fluid},
+        {&o->k.eulerian_mass_energy_rate, "eulerian_mass_energy_rate", fluid},
+        {&o->k.eulerian_update, "eulerian_update", fluid},
         {&o->k.shear_force, "acoustic_shear_force",
          !tlsph && FORM_HAS_STRESS_DIV((int)f->formulation)},
         /* the substep reduction: with the device clock, its second stage
@@ -929,7 +958,13 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
      * recomputing passes are 18 % slower and the stored arrays win by 11 %
      * per advection step (docs/benchmarks.md).  TLSPH keeps its stored
      * reference geometry. */
+    /* fluids (fixed particles, no geometry shift): the periodic axes of
+     * the cell grid, and the stored pair geometry, which the correction of
+     * eq. 18 overwrites (eulerian_step.cl) */
+    o->periodic_mask = prm->periodic_mask;
+    for (int a = 0; a < 3; ++a) o->period[a] = prm->period[a];
     o->pair_recompute = f->formulation != SPH_FORMULATION_TLSPH &&
+                        !FORM_IS_EULERIAN((int)f->formulation) &&
                         (req->pair_geometry == SPH_PAIR_GEOMETRY_RECOMPUTED ||
                          (req->pair_geometry == SPH_PAIR_GEOMETRY_AUTO && !o->row_major));
     /* Work-group sizes per device kind, measured.  GPUs: 256 for the

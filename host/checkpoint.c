@@ -107,6 +107,17 @@ static sph_status write_series(const sph_h5_writer *w, const sph_timeseries *ts,
     if (!st && per_row > 0)
         st = sph_h5_write(w, w->file, "series_observers", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 2, d3,
                           ts->observers, err);
+    /* fluids: the total mass and energy of each row (zeros for solids; a
+     * checkpoint without the dataset restores zeros) */
+    if (!st) {
+        for (hsize_t k = 0; k < count; ++k) {
+            diag[2 * k] = ts->diag[k].mass;
+            diag[2 * k + 1] = ts->diag[k].total_energy;
+        }
+        const hsize_t d4[2] = {count, 2};
+        st = sph_h5_write(w, w->file, "series_fluid", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 2, d4,
+                          diag, err);
+    }
     free(diag);
     return st;
 }
@@ -300,11 +311,22 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
                          err);
     if (!st && per_row > 0)
         st = sph_h5_read(f, path, "series_observers", H5T_NATIVE_DOUBLE, obs, rows * per_row, err);
+    double *fluid = NULL;
+    if (!st && H5Lexists(f, "series_fluid", H5P_DEFAULT) > 0) {
+        fluid = malloc(rows * 2 * sizeof(double) + 1);
+        st = fluid ? sph_h5_read(f, path, "series_fluid", H5T_NATIVE_DOUBLE, fluid, rows * 2, err)
+                   : sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
     for (size_t k = 0; !st && k < rows; ++k) {
-        sph_diagnostics d;
+        sph_diagnostics d = {0};
         diag_unpack(diag + k * DIAG_VALUES, &d);
+        if (fluid) {
+            d.mass = fluid[2 * k];
+            d.total_energy = fluid[2 * k + 1];
+        }
         st = sph_timeseries_append(ts, time[k], &d, obs + k * per_row, err);
     }
+    free(fluid);
     free(time);
     free(diag);
     free(obs);

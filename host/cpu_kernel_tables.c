@@ -18,18 +18,24 @@ CPU_INSTANCES(2, mixed)
 CPU_INSTANCES(3, f64)
 CPU_INSTANCES(3, f32)
 CPU_INSTANCES(3, mixed)
-#define CPU_ROW(dim, prec)                                                                         \
+/* the fluid formulations: double precision only */
+extern const cpu_kernels cpu_2d_f64_eulerian_wc, cpu_2d_f64_eulerian_compressible,
+    cpu_3d_f64_eulerian_wc, cpu_3d_f64_eulerian_compressible;
+#define CPU_ROW(dim, prec, fluid_wc, fluid_compressible)                                           \
     {                                                                                              \
         &cpu_##dim##d_##prec##_enog, &cpu_##dim##d_##prec##_enog_a, &cpu_##dim##d_##prec##_og,     \
             &cpu_##dim##d_##prec##_oas, &cpu_##dim##d_##prec##_gnog,                               \
-            &cpu_##dim##d_##prec##_gnog_a, &cpu_##dim##d_##prec##_tlsph                            \
+            &cpu_##dim##d_##prec##_gnog_a, &cpu_##dim##d_##prec##_tlsph, fluid_wc,                 \
+            fluid_compressible                                                                     \
     }
-#define CPU_FORMULATION_COUNT 7
+#define CPU_FORMULATION_COUNT 9
 
-/* [dimension - 2][f64, f32, mixed][formulation] */
+/* [dimension - 2][f64, f32, mixed][formulation]; NULL: no such instance */
 static const cpu_kernels *const cpu_instances[2][3][CPU_FORMULATION_COUNT] = {
-    {CPU_ROW(2, f64), CPU_ROW(2, f32), CPU_ROW(2, mixed)},
-    {CPU_ROW(3, f64), CPU_ROW(3, f32), CPU_ROW(3, mixed)},
+    {CPU_ROW(2, f64, &cpu_2d_f64_eulerian_wc, &cpu_2d_f64_eulerian_compressible),
+     CPU_ROW(2, f32, NULL, NULL), CPU_ROW(2, mixed, NULL, NULL)},
+    {CPU_ROW(3, f64, &cpu_3d_f64_eulerian_wc, &cpu_3d_f64_eulerian_compressible),
+     CPU_ROW(3, f32, NULL, NULL), CPU_ROW(3, mixed, NULL, NULL)},
 };
 
 const cpu_kernels *cpu_kernels_for(int dim, bool double_precision) {

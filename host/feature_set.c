@@ -21,7 +21,8 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
     out->nbodies = scene->nbodies;
     /* bodies do not merge: they meet through the contact force (TLSPH runs
      * one body, scene.c) */
-    out->contact = scene->nbodies > 1 && scene->formulation != SPH_FORMULATION_TLSPH;
+    out->contact = scene->nbodies > 1 && scene->formulation != SPH_FORMULATION_TLSPH &&
+                   !SPH_FORMULATION_IS_EULERIAN(scene->formulation);
     out->walls = scene->nwalls;
     out->torque_projection = scene->torque_projection;
     for (int b = 0; b < scene->nbodies; ++b)
@@ -131,6 +132,19 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     row->lambda = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
     row->yield = m->yield_stress;
     row->hardening = m->hardening_modulus;
+    /* fluids (device/eulerian_step.cl) */
+    row->viscosity = m->viscosity;
+    row->gamma = m->gamma;
+    prm->periodic_mask = scene->periodic_mask;
+    for (int a = 0; a < scene->dim; ++a)
+        if (scene->periodic_mask & (1 << a))
+            prm->period[a] = scene->periodic_upper[a] - scene->periodic_lower[a];
+    if (SPH_FORMULATION_IS_EULERIAN(scene->formulation) && !f->double_precision)
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "%s: formulation \"%s\" runs in double precision only (its conserved "
+                        "sums and the step clock's signal speeds); drop --precision %s",
+                        scene->path, sph_formulation_name(scene->formulation),
+                        sph_precision_name(f));
     for (int b = 0; b < f->nbodies; ++b) prm->body_count[b] = particles->body_count[b];
     /* the constraint table (device/sph_constraints.h) */
     for (int k = 0; k < sph_constraint_count(scene) && k < SPH_MAX_CONSTRAINTS; ++k) {

@@ -10,18 +10,21 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
     const int nspin = d == 2 ? 1 : 3;
     const bool averaged = f->rotation == SPH_ROTATION_AVERAGED;
     const int form = (int)f->formulation;
+    /* fluids have neither the solid's stresses nor its acoustic terms */
+    const bool fluid = FORM_IS_EULERIAN(form), solid = !fluid;
+    const bool compressible = form == FORMULATION_EULERIAN_COMPRESSIBLE;
     const sph_field_info table[FIELD_COUNT] = {
         [FIELD_POS] = {"pos", FIELD_TYPE_HREAL, d, true},
         [FIELD_VEL] = {"vel", FIELD_TYPE_REAL, d, true},
         [FIELD_RHO] = {"rho", FIELD_TYPE_HREAL, 1, true},
-        [FIELD_DRHO] = {"drho", FIELD_TYPE_REAL, 1, true},
+        [FIELD_DRHO] = {"drho", FIELD_TYPE_REAL, 1, solid},
         [FIELD_MASS] = {"mass", FIELD_TYPE_REAL, 1, true},
         [FIELD_VOL] = {"vol", FIELD_TYPE_REAL, 1, true},
-        [FIELD_ACC_DISS] = {"acc_diss", FIELD_TYPE_REAL, d, true},
-        [FIELD_ACC_SHEAR] = {"acc_shear", FIELD_TYPE_HREAL, d, true},
+        [FIELD_ACC_DISS] = {"acc_diss", FIELD_TYPE_REAL, d, solid},
+        [FIELD_ACC_SHEAR] = {"acc_shear", FIELD_TYPE_HREAL, d, solid},
         [FIELD_DACC_SHEAR] = {"dacc_shear", FIELD_TYPE_REAL, d, averaged},
         [FIELD_SPIN] = {"spin", FIELD_TYPE_REAL, nspin, averaged},
-        [FIELD_TAU] = {"tau", FIELD_TYPE_HREAL, nsym, true},
+        [FIELD_TAU] = {"tau", FIELD_TYPE_HREAL, nsym, solid},
         [FIELD_BMAT] = {"bmat", FIELD_TYPE_REAL, nsym, true},
         [FIELD_ID] = {"id", FIELD_TYPE_INT32, 1, true},
         [FIELD_BODY] = {"body", FIELD_TYPE_U8, 1, f->nbodies > 1},
@@ -42,6 +45,12 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         /* bodies that do not merge: the contact neighbours of each particle
          * sit at the top of its neighbour row (device/sph_contact.h) */
         [FIELD_CONTACT_COUNT] = {"contact_count", FIELD_TYPE_INT32, 1, f->contact},
+        [FIELD_PRESSURE] = {"pressure", FIELD_TYPE_REAL, 1, fluid},
+        [FIELD_FORCE] = {"force", FIELD_TYPE_REAL, d, fluid},
+        [FIELD_MASS_RATE] = {"mass_rate", FIELD_TYPE_REAL, 1, fluid},
+        [FIELD_ENERGY] = {"energy", FIELD_TYPE_REAL, 1, compressible},
+        [FIELD_ENERGY_RATE] = {"energy_rate", FIELD_TYPE_REAL, 1, compressible},
+        [FIELD_VORTICITY] = {"vorticity", FIELD_TYPE_REAL, nspin, fluid},
     };
     for (int k = 0; k < FIELD_COUNT; ++k) out[k] = table[k];
 }

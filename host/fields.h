@@ -40,6 +40,14 @@ typedef enum {
     FIELD_DEFGRAD,        /* deformation gradient F, full d x d (TLSPH) */
     FIELD_PLASTIC_CINV,   /* plastic TLSPH: C_p^-1 - I, symmetric, then (2D) its zz component */
     FIELD_CONTACT_COUNT,  /* contact neighbours (other bodies) of the last rebuild (contact) */
+    /* fluids (device/eulerian_step.cl): FIELD_MASS is the conserved mass
+     * rho w there, FIELD_VOL the fixed volume w */
+    FIELD_PRESSURE,    /* pressure p, by the EOS */
+    FIELD_FORCE,       /* d(m v)/dt: Riemann momentum flux and viscous force */
+    FIELD_MASS_RATE,   /* dm/dt */
+    FIELD_ENERGY,      /* total energy of the particle, E w (compressible) */
+    FIELD_ENERGY_RATE, /* d(E w)/dt (compressible) */
+    FIELD_VORTICITY,   /* curl v (2D: its z component) */
     FIELD_COUNT
 } sph_field;
 

@@ -47,6 +47,21 @@ sph_status sph_grid_from_bounds(int dim, const double lower[3], const double upp
     return SPH_OK;
 }
 
+void sph_grid_make_periodic(sph_grid *grid, int mask, const double period[3]) {
+    if (!mask) return;
+    long ncells = 1;
+    for (int a = 0; a < grid->dim; ++a) {
+        if (mask & (1 << a)) {
+            /* whole cells of at least `cell` over the period: the last one
+             * takes the remainder (sph_grid_coord clamps into it) */
+            const double count = floor(period[a] / grid->cell);
+            grid->dims[a] = count < 1.0 ? 1 : (int)count;
+        }
+        ncells *= grid->dims[a];
+    }
+    grid->ncells = ncells;
+}
+
 sph_status sph_cell_list_build(sph_cell_list *c, int dim, const double *pos, int n, double cutoff,
                                sph_error *err) {
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};

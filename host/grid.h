@@ -24,6 +24,13 @@ typedef struct {
 sph_status sph_grid_from_bounds(int dim, const double lower[3], const double upper[3],
                                 double cutoff, int nparticles, sph_grid *grid, sph_error *err);
 
+/* Fluids with periodic axes (bit a of mask: axis a wraps around with the
+ * length period[a]; device/neighbour_build.cl): along those axes the grid
+ * starts where it did (the particles' lower bound, within one dp of the
+ * period's start) and has as many whole cells as fit in the period, so
+ * that the stencil's neighbour cells wrap around it. */
+void sph_grid_make_periodic(sph_grid *grid, int mask, const double period[3]);
+
 /* The cell of coordinate x along axis a, clamped to the grid. */
 static inline int sph_grid_coord(const sph_grid *g, int a, double x) {
     const long c = (long)floor((x - g->origin[a]) / g->cell);

@@ -86,9 +86,15 @@ static const char *axis_name(int a) {
 static sph_status csv_columns(const sph_scene *scene, char names[][SPH_NAME_LEN + 24], int *count,
                               sph_error *err) {
     int n = 0;
-    const char *fixed[] = {"time", "kinetic_energy", "strain_energy", "total_energy"};
+    /* fluids (the eulerian formulations): the internal energy where solids
+     * have the strain energy, the total mass, and no monitor columns (fixed
+     * particles neither cluster nor zigzag) */
+    const bool fluid = SPH_FORMULATION_IS_EULERIAN(scene->formulation);
+    const char *fixed[] = {"time", "kinetic_energy", fluid ? "internal_energy" : "strain_energy",
+                           "total_energy"};
     for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k)
         snprintf(names[n++], SPH_NAME_LEN + 24, "%s", fixed[k]);
+    if (fluid) snprintf(names[n++], SPH_NAME_LEN + 24, "mass");
     for (int a = 0; a < scene->dim; ++a)
         snprintf(names[n++], SPH_NAME_LEN + 24, "momentum_%s", axis_name(a));
     if (scene->dim == 2) {
@@ -97,8 +103,10 @@ static sph_status csv_columns(const sph_scene *scene, char names[][SPH_NAME_LEN 
         for (int a = 0; a < 3; ++a)
             snprintf(names[n++], SPH_NAME_LEN + 24, "angular_momentum_%s", axis_name(a));
     }
-    snprintf(names[n++], SPH_NAME_LEN + 24, "min_distance_ratio");
-    snprintf(names[n++], SPH_NAME_LEN + 24, "zigzag_indicator");
+    if (!fluid) {
+        snprintf(names[n++], SPH_NAME_LEN + 24, "min_distance_ratio");
+        snprintf(names[n++], SPH_NAME_LEN + 24, "zigzag_indicator");
+    }
     if (scene->nobservers < 0 || scene->nobservers > SPH_SCENE_MAX_OBSERVERS)
         return sph_fail(err, SPH_ERR_INPUT, "timeseries.csv: %d observers (at most %d)",
                         scene->nobservers, SPH_SCENE_MAX_OBSERVERS);
@@ -150,6 +158,7 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
                         strerror(errno));
     out->dim = scene->dim;
     out->nobservers = scene->nobservers;
+    out->fluid = SPH_FORMULATION_IS_EULERIAN(scene->formulation);
     for (int c = 0; c < ncolumns; ++c) fprintf(out->csv, "%s%s", c ? "," : "", columns[c]);
     fputc('\n', out->csv);
     if (!stream_ok(out->csv, out->csv_partial))
@@ -167,13 +176,17 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
 sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
                           const double *observers, sph_error *err) {
     FILE *f = out->csv;
-    fprintf(f, "%.9g,%.12g,%.12g,%.12g", t, d->kinetic, d->strain, d->kinetic + d->strain);
+    if (out->fluid)
+        fprintf(f, "%.9g,%.12g,%.12g,%.15g,%.15g", t, d->kinetic, d->strain, d->total_energy,
+                d->mass);
+    else
+        fprintf(f, "%.9g,%.12g,%.12g,%.12g", t, d->kinetic, d->strain, d->kinetic + d->strain);
     for (int a = 0; a < out->dim; ++a) fprintf(f, ",%.12g", d->momentum[a]);
     if (out->dim == 2)
         fprintf(f, ",%.12g", d->angular[2]);
     else
         fprintf(f, ",%.12g,%.12g,%.12g", d->angular[0], d->angular[1], d->angular[2]);
-    fprintf(f, ",%.6g,%.6g", d->min_distance_ratio, d->zigzag);
+    if (!out->fluid) fprintf(f, ",%.6g,%.6g", d->min_distance_ratio, d->zigzag);
     for (int k = 0; k < out->nobservers * out->dim; ++k) fprintf(f, ",%.12g", observers[k]);
     fputc('\n', f);
     if (!stream_ok(f, out->csv_partial))

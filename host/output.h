@@ -22,6 +22,7 @@ typedef struct {
     char csv_partial[1100], csv_final[1100];
     FILE *csv;
     int dim, nobservers;
+    bool fluid; /* the fluid columns (internal energy, mass; no monitor columns) */
 } sph_output;
 
 /* Create `dir` and its parents (exit-1 messages naming the path that could

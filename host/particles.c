@@ -304,6 +304,120 @@ static sph_status apply_velocity_expressions(const sph_scene *scene, sph_particl
     return SPH_OK;
 }
 
+/* The initial state of the fluid bodies (the eulerian formulations): rho
+ * from bodies.X.initial_density (else the material's rho0), the mass
+ * rho w with the lattice volume w = dp^d (seed 004 eq. 14 carries w_i rho_i),
+ * and for the ideal gas the pressure from bodies.X.initial_pressure.  A value
+ * that is not finite, a density <= 0 or a pressure <= 0 is an input error
+ * naming the key and the particle. */
+static sph_status apply_fluid_state(const sph_scene *scene, sph_particles *out, sph_error *err) {
+    if (!SPH_FORMULATION_IS_EULERIAN(scene->formulation)) return SPH_OK;
+    const bool compressible = scene->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
+    const int dim = scene->dim;
+    const size_t n = (size_t)out->n;
+    const double volume = pow(scene->dp, dim);
+    const char *vars[3], *names[SPH_SCENE_MAX_CONSTANTS];
+    const int nvars = sph_scene_expression_variables(dim, vars);
+    const sph_expression_constants constants = sph_scene_expression_constants(scene, names);
+    size_t start = 0;
+    for (int b = 0; b < scene->nbodies; b++) {
+        const size_t count = (size_t)out->body_count[b];
+        const sph_body *body = &scene->bodies[b];
+        const sph_material *mat = &scene->materials[body->material];
+        if (compressible && !body->initial_pressure[0])
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s.initial_pressure: missing: the ideal gas of formulation "
+                            "\"eulerian-compressible\" starts from a pressure",
+                            body->where);
+        /* entry 0 the density, 1 the pressure; "" is 0 everywhere */
+        const char *texts[2] = {body->initial_density, compressible ? body->initial_pressure : ""};
+        const char *wheres[2] = {
+            body->initial_density_where[0] ? body->initial_density_where : body->where,
+            body->initial_pressure_where[0] ? body->initial_pressure_where : body->where};
+        static const char *const what[2] = {"densities", "pressures"};
+        sph_expression_field field;
+        int bad = -1;
+        char why[768];
+        /* the scene loader compiled the same texts: a failure here is a
+         * scene built around it (a test, a caller filling sph_scene) */
+        if (!sph_expression_field_compile(&field, texts, 2, vars, nvars, &constants, &bad, why,
+                                          sizeof why))
+            return sph_fail(err, SPH_ERR_INPUT, "%s: %s", bad >= 0 ? wheres[bad] : body->where,
+                            why);
+        for (size_t i = start; i < start + count; i++) {
+            double x[3] = {0, 0, 0}, v[2] = {0, 0};
+            for (int a = 0; a < dim; a++) x[a] = out->pos[(size_t)a * n + i];
+            /* a library error or a value that is not finite: `why` says which */
+            bool ok = sph_expression_field_eval(&field, x, false, v, &bad, why, sizeof why);
+            if (ok && !body->initial_density[0]) v[0] = mat->density;
+            if (ok && (!(v[0] > 0.0) || (compressible && !(v[1] > 0.0)))) {
+                ok = false;
+                bad = v[0] > 0.0 ? 1 : 0;
+                snprintf(why, sizeof why, "gives %g", v[bad]);
+            }
+            if (!ok) {
+                char point[96];
+                format_point(x, dim, point, sizeof point);
+                sph_expression_field_free(&field);
+                return sph_fail(err, SPH_ERR_INPUT,
+                                "%s: the expression \"%.200s\" %s at the particle at %s of body "
+                                "'%s': initial %s must be finite and > 0",
+                                wheres[bad], texts[bad], why, point, body->name, what[bad]);
+            }
+            out->rho[i] = v[0];
+            out->mass[i] = v[0] * volume;
+            if (compressible) out->pressure[i] = v[1];
+        }
+        sph_expression_field_free(&field);
+        start += count;
+    }
+    return SPH_OK;
+}
+
+/* Along a periodic axis (scene.h, boundary) every particle must lie in
+ * [lower, upper) and on the lattice lower + (i + 1/2) dp: the particles next
+ * to the seam are then dp from their neighbours' images, as everywhere else
+ * (a lattice anchored elsewhere would put a gap or an overlap there). */
+static sph_status check_periodic_lattice(const sph_scene *scene, const sph_particles *p,
+                                         sph_error *err) {
+    if (!scene->periodic_mask) return SPH_OK;
+    const int dim = scene->dim;
+    const size_t n = (size_t)p->n;
+    const double dp = scene->dp;
+    for (int a = 0; a < dim; a++) {
+        if (!(scene->periodic_mask & (1 << a))) continue;
+        const double lo = scene->periodic_lower[a], hi = scene->periodic_upper[a];
+        for (size_t i = 0; i < n; i++) {
+            const double xa = p->pos[(size_t)a * n + i];
+            const double s = (xa - lo) / dp - 0.5, off = s - round(s);
+            const bool inside = xa >= lo && xa < hi;
+            if (inside && fabs(off) <= 1e-6) continue;
+            double x[3] = {0, 0, 0};
+            for (int d = 0; d < dim; d++) x[d] = p->pos[(size_t)d * n + i];
+            char point[96];
+            format_point(x, dim, point, sizeof point);
+            const sph_body *body = &scene->bodies[p->body[i]];
+            if (!inside)
+                return sph_fail(err, SPH_ERR_INPUT,
+                                "%s: the lattice does not fit the periodic axis %c: the particle "
+                                "at %s of body '%s' (%s) lies outside the period [%g, %g); "
+                                "every body must lie within boundary.lower and boundary.upper "
+                                "along it",
+                                scene->periodic_where, "xyz"[a], point, body -> name, body -> where,
+                                lo, hi);
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s: the lattice does not fit the periodic axis %c: the particle at "
+                            "%s of body '%s' (%s) lies %.3g dp off the lattice boundary.lower + "
+                            "(i + 1/2) dp, so the particles across the seam would not be dp "
+                            "apart; leave lattice_origin out (it is then anchored at "
+                            "boundary.lower) or put it on that lattice",
+                            scene->periodic_where, "xyz"[a], point, body -> name, body -> where,
+                            off);
+        }
+    }
+    return SPH_OK;
+}
+
 /* The bounding box of body b's particles [start, start + count). */
 static void body_span(const sph_particles *p, long start, long count, double lo[3], double hi[3]) {
     const size_t n = (size_t)p->n;
@@ -487,7 +601,10 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     const int dim = scene->dim;
     out->dim = dim;
 
-    /* lattice origin: the lower corner of all bodies unless the scene sets it */
+    /* lattice origin: the lower corner of all bodies unless the scene sets
+     * it; along a periodic axis boundary.lower, so that a body filling the
+     * period holds L/dp particles and the lattice continues across the seam
+     * (check_periodic_lattice) */
     double origin[3] = {0, 0, 0};
     if (scene->has_lattice_origin) {
         for (int a = 0; a < dim; a++) origin[a] = scene->lattice_origin[a];
@@ -498,11 +615,16 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
             for (int a = 0; a < dim; a++)
                 if (b == 0 || lo[a] < origin[a]) origin[a] = lo[a];
         }
+        for (int a = 0; a < dim; a++)
+            if (scene->periodic_mask & (1 << a)) origin[a] = scene->periodic_lower[a];
     }
 
     bool any_constraint = false;
     for (int b = 0; b < scene->nbodies; b++) any_constraint |= scene->bodies[b].nconstraints > 0;
-    const double each = (double)sph_particles_bytes_each(dim, any_constraint);
+    /* the ideal gas's initial pressure: one more double a particle */
+    const bool with_pressure = scene->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
+    const double each = (double)sph_particles_bytes_each(dim, any_constraint) +
+                        (with_pressure ? (double)sizeof(double) : 0.0);
     char available[256], need[32];
 
     /* guard the scan itself: a tiny dp in a large box would loop for ages,
@@ -584,8 +706,9 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     out->id = malloc(n * sizeof *out->id);
     out->body = malloc(n * sizeof *out->body);
     if (any_constraint) out->fixed = malloc(n * sizeof *out->fixed);
+    if (with_pressure) out->pressure = calloc(n, sizeof *out->pressure);
     if (!out->pos || !out->vel || !out->mass || !out->rho || !out->id || !out->body ||
-        (any_constraint && !out->fixed)) {
+        (any_constraint && !out->fixed) || (with_pressure && !out->pressure)) {
         sph_particles_free(out);
         sph_format_bytes((double)total * each, need, sizeof need);
         return sph_fail(err, SPH_ERR_RUNTIME, "out of memory allocating %zu particles (%s); %s", n,
@@ -599,6 +722,8 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     sph_status rst = check_constraint_regions(scene, out, err);
     if (!rst) rst = relax_bodies(scene, origin, force_relax, out, err);
     if (!rst) rst = apply_velocity_expressions(scene, out, err);
+    if (!rst) rst = apply_fluid_state(scene, out, err);
+    if (!rst) rst = check_periodic_lattice(scene, out, err);
     if (!rst) rst = check_monitor_domain(scene, out, err);
     if (rst) {
         sph_particles_free(out);
@@ -683,6 +808,7 @@ void sph_particles_free(sph_particles *p) {
     free(p->vel);
     free(p->mass);
     free(p->rho);
+    free(p->pressure);
     free(p->id);
     free(p->body);
     free(p->fixed);

@@ -22,10 +22,14 @@
 
 typedef struct {
     int n, dim;
-    double *pos;   /* [dim * n] */
-    double *vel;   /* [dim * n] */
-    double *mass;  /* [n]  rho0 dp^d */
-    double *rho;   /* [n]  rho0 */
+    double *pos;  /* [dim * n] */
+    double *vel;  /* [dim * n] */
+    double *mass; /* [n]  rho0 dp^d */
+    double *rho;  /* [n]  rho0; fluid bodies: bodies.X.initial_density */
+    /* [n] fluid bodies of the compressible formulation: the initial pressure
+     * (bodies.X.initial_pressure); NULL in every other scene (the weakly
+     * compressible pressure follows from rho by the EOS on the device) */
+    double *pressure;
     int32_t *id;   /* [n] */
     uint8_t *body; /* [n]  index into scene->bodies */
     /* [n] 0: free; k + 1: constrained by entry k of the scene's constraint

@@ -868,8 +868,8 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
         /* optional groups a scene may leave out are created on demand, so
          * that e.g. --set output.snapshot_interval=0 works on any scene */
         static const char *const optional_groups[] = {
-            "output",  "analysis",       "analysis.period",         "monitor",
-            "contact", "monitor.domain", "method.artificial_stress"};
+            "output",  "analysis",       "analysis.period",          "monitor",
+            "contact", "monitor.domain", "method.artificial_stress", "boundary"};
         for (size_t g = 0; !child && config_setting_is_group(parent) &&
                            g < sizeof optional_groups / sizeof optional_groups[0];
              ++g)
@@ -994,8 +994,9 @@ static sph_status parse_resolution(loader *L, const config_setting_t *root) {
     return SPH_OK;
 }
 
-static const char *const FORMULATION_NAMES[] = {"enog", "enog-a", "og",   "oas",
-                                                "gnog", "gnog-a", "tlsph"};
+static const char *const FORMULATION_NAMES[] = {"enog",  "enog-a",      "og",
+                                                "oas",   "gnog",        "gnog-a",
+                                                "tlsph", "eulerian-wc", "eulerian-compressible"};
 static const char *const KERNEL_NAMES[] = {"wendland-c2", "laguerre-gauss", "laguerre-wendland",
                                            "cubic-bspline"};
 
@@ -1021,6 +1022,21 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
                           &formulation, &form_at)))
         return st;
     sc->formulation = (sph_formulation)formulation;
+    const bool eulerian = SPH_FORMULATION_IS_EULERIAN(formulation);
+    if (eulerian) {
+        /* seed 004 §3.1: a fluid has no shear stress, so the coefficients of
+         * the solid formulations' shear and hourglass terms mean nothing */
+        static const char *const solid_keys[] = {"torque_projection", "xi_e", "xi_g",
+                                                 "artificial_stress", "hourglass_alpha"};
+        for (size_t k = 0; k < sizeof solid_keys / sizeof solid_keys[0]; ++k) {
+            const config_setting_t *m = config_setting_get_member(g, solid_keys[k]);
+            if (m)
+                return fail_at(L, m, NULL,
+                               "is for the solid formulations; formulation \"%s\" simulates a "
+                               "fluid (seed 004, section 3.1), which has no shear stress",
+                               FORMULATION_NAMES[formulation]);
+        }
+    }
     const bool rotates = formulation_rotates(formulation);
     const int def_rot = rotates ? SPH_ROTATION_AVERAGED : SPH_ROTATION_NONE;
     if ((st = get_keyword(L, g, "rotation", false, def_rot,
@@ -1101,7 +1117,14 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
     if ((st = get_float(L, g, "hourglass_alpha", false, 0.1, 0, false, 100, false,
                         &sc->hourglass_alpha)))
         return st;
-    return get_float(L, g, "riemann_limiter", false, 0.0, 0, false, INFINITY, false,
+    /* The limiter slope eta of beta = min(eta max(u_l - u_r, 0) / c, 1):
+     * 0 (unlimited) for the solids; for the fluids the seed's values,
+     * eta_linearised = 15 (seed 004 eqs. 21-22, also the public code's) and
+     * eta_HLLC = 1 (eqs. 19-20; the public code runs 5) */
+    const double limiter = formulation == SPH_FORMULATION_EULERIAN_WC             ? 15.0
+                           : formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE ? 1.0
+                                                                                  : 0.0;
+    return get_float(L, g, "riemann_limiter", false, limiter, 0, false, INFINITY, false,
                      &sc->riemann_limiter_slope);
 }
 
@@ -1121,17 +1144,47 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
     if (sc->output_interval > sc->end_time)
         return fail_at(L, config_setting_get_member(g, "output_interval"), NULL,
                        "must not exceed time.end (%g), got %g", sc->end_time, sc->output_interval);
+    /* The eulerian formulations keep their particles where they were placed
+     * (seed 004 §3.1): no advection step, no neighbour rebuild, so no
+     * advection CFL, no frozen pair geometry and no acceleration criterion;
+     * every step is an acoustic one */
+    const bool eulerian = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
+    if (eulerian) {
+        static const char *const moving[] = {"cfl_advection", "frozen_geometry",
+                                             "acceleration_criterion"};
+        for (size_t k = 0; k < sizeof moving / sizeof moving[0]; ++k) {
+            const config_setting_t *m = config_setting_get_member(g, moving[k]);
+            if (m)
+                return fail_at(L, m, NULL,
+                               "is for the formulations whose particles move (the advection "
+                               "step); formulation \"%s\" keeps its particles fixed and steps "
+                               "by time.cfl_acoustic alone",
+                               sph_formulation_name(sc->formulation));
+        }
+    }
     int stepping = 0;
-    if ((st = get_keyword(L, g, "stepping", false, SPH_STEPPING_DUAL, KEYS("dual", "single"),
-                          &stepping, NULL)))
+    const config_setting_t *stepping_at = NULL;
+    if ((st = get_keyword(L, g, "stepping", false,
+                          eulerian ? SPH_STEPPING_SINGLE : SPH_STEPPING_DUAL,
+                          KEYS("dual", "single"), &stepping, &stepping_at)))
         return st;
+    if (eulerian && stepping == SPH_STEPPING_DUAL)
+        return fail_at(L, stepping_at, NULL,
+                       "formulation \"%s\" keeps its particles fixed: there is no advection "
+                       "step to take dual-criteria steps with, so stepping must be \"single\" "
+                       "(its default), got \"dual\"",
+                       sph_formulation_name(sc->formulation));
     sc->stepping = (sph_stepping)stepping;
     /* The acoustic step's CFL: 0.4 (000, 003), 0.2 with the Laguerre-Wendland
      * kernel, whose stiffest lattice mode is 2.3x Wendland's at the same h:
      * leapfrog's limit is CFL 0.47 there (tools/kernel_lattice_stiffness.py)
      * and the plate (h = 2 dp) blows up at 0.3-0.4 within 5 ms, runs to 1 s at
-     * 0.2 (docs/method.md, kernels) */
-    const double cfl_acoustic = sc->kernel == SPH_KERNEL_LAGUERRE_WENDLAND ? 0.2 : 0.4;
+     * 0.2 (docs/method.md, kernels).  The fluids: 0.6 / d, the public
+     * reference code's dt = (0.6 / d) h / max(c + |v|) (the seed gives no
+     * step size) */
+    const double cfl_acoustic = eulerian                                     ? 0.6 / sc->dim
+                                : sc->kernel == SPH_KERNEL_LAGUERRE_WENDLAND ? 0.2
+                                                                             : 0.4;
     if ((st =
              get_float(L, g, "cfl_advection", false, 0.2, 0, true, 1, false, &sc->cfl_advection)) ||
         (st = get_float(L, g, "cfl_acoustic", false, cfl_acoustic, 0, true, 1, false,
@@ -1149,6 +1202,69 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
     return get_bool(L, g, "acceleration_criterion", true, &sc->acceleration_criterion);
 }
 
+/* A fluid material (no youngs_modulus) of the eulerian formulations: rho0,
+ * and the weakly compressible fluid's c0 (p = c0^2 (rho - rho0), seed 004
+ * eq. 11) or the ideal gas's gamma (p = (gamma - 1) rho e, eq. 11, with
+ * c = sqrt(gamma p / rho), eq. 12), and the dynamic viscosity mu of eq. 13. */
+static sph_status parse_fluid_material(loader *L, const config_setting_t *m, sph_material *mat) {
+    const sph_formulation f = L->scene->formulation;
+    const char *fname = sph_formulation_name(f);
+    static const char *const solid_only[] = {"poisson_ratio", "yield_stress", "hardening_modulus"};
+    for (size_t k = 0; k < sizeof solid_only / sizeof solid_only[0]; ++k) {
+        const config_setting_t *s = config_setting_get_member(m, solid_only[k]);
+        if (s)
+            return fail_at(L, s, NULL,
+                           "is for solid materials; material '%s' is a fluid (it has no "
+                           "youngs_modulus), as formulation \"%s\" needs",
+                           m->name, fname);
+    }
+    sph_status st;
+    if ((st = get_float(L, m, "density", true, 0, 0, true, INFINITY, false, &mat->density)) ||
+        (st = get_float(L, m, "viscosity", false, 0.0, 0, false, INFINITY, false, &mat->viscosity)))
+        return st;
+    mat->fluid = true;
+    mat->youngs_modulus = mat->poisson_ratio = mat->shear_modulus = 0.0;
+    const config_setting_t *gamma_at = config_setting_get_member(m, "gamma");
+    const config_setting_t *c_at = config_setting_get_member(m, "sound_speed");
+    if (f == SPH_FORMULATION_EULERIAN_WC) {
+        if (gamma_at)
+            return fail_at(L, gamma_at, NULL,
+                           "is the ideal gas's ratio of specific heats (formulation "
+                           "\"eulerian-compressible\"); the weakly compressible fluid of "
+                           "\"eulerian-wc\" has p = c0^2 (rho - rho0) (seed 004 eq. 11), set by "
+                           "sound_speed");
+        if ((st = get_float(L, m, "sound_speed", true, 0, 0, true, INFINITY, false,
+                            &mat->sound_speed)))
+            return st;
+        mat->bulk_modulus = mat->density * mat->sound_speed * mat->sound_speed;
+        mat->gamma = 0.0;
+        if (!isfinite(mat->bulk_modulus))
+            return fail_at(L, c_at, NULL,
+                           "density %g and sound_speed %g give the bulk modulus rho0 c0^2 = %g: "
+                           "not finite",
+                           mat->density, mat->sound_speed, mat->bulk_modulus);
+        return SPH_OK;
+    }
+    /* the ideal gas: its sound speed is a state variable */
+    if (c_at)
+        return fail_at(L, c_at, NULL,
+                       "an ideal gas's sound speed follows from its state, c = sqrt(gamma p / rho) "
+                       "(seed 004 eq. 12); leave sound_speed out and give the bodies' "
+                       "initial_pressure (and initial_density)");
+    mat->gamma = 1.4;
+    if (gamma_at && (st = as_float(L, gamma_at, &mat->gamma))) return st;
+    /* 5/3 itself cannot be written in the 15 digits a stored scene keeps
+     * (check_resolved): 1.66666666666667 and 1.666667 are accepted as 5/3 */
+    if (!(mat->gamma > 1.0 && mat->gamma <= 5.0 / 3.0 + 1e-6))
+        return fail_at(L, gamma_at ? gamma_at : m, gamma_at ? NULL : "gamma",
+                       "an ideal gas has 1 < gamma <= 5/3 (5/3: monatomic, 7/5: diatomic such "
+                       "as air), got %g",
+                       mat->gamma);
+    mat->sound_speed = 0.0;
+    mat->bulk_modulus = 0.0;
+    return SPH_OK;
+}
+
 static sph_status parse_materials(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g;
@@ -1158,6 +1274,12 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
     if (n == 0) return fail_at(L, g, NULL, "define at least one material");
     if (n > SPH_MAX_MATERIALS)
         return fail_at(L, g, NULL, "at most %d materials, got %d", SPH_MAX_MATERIALS, n);
+    const bool eulerian = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
+    if (eulerian && n > 1)
+        return fail_at(L, g, NULL,
+                       "several materials (%d) are not supported for the eulerian formulations "
+                       "yet: define one fluid (several bodies may share it)",
+                       n);
     for (int i = 0; i < n; i++) {
         const config_setting_t *m = config_setting_get_elem(g, (unsigned)i);
         sph_material *mat = &sc->materials[i];
@@ -1169,14 +1291,46 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
         if (!sph_name_check(m->name, why, sizeof why)) return fail_at(L, m, NULL, "%s", why);
         if ((st = check_keys(L, m,
                              KEYS("density", "youngs_modulus", "poisson_ratio", "sound_speed",
-                                  "yield_stress", "hardening_modulus"))) ||
-            (st = get_float(L, m, "density", true, 0, 0, true, INFINITY, false, &mat->density)) ||
+                                  "yield_stress", "hardening_modulus", "viscosity", "gamma"))))
+            return st;
+        snprintf(mat->name, sizeof mat->name, "%s", m->name);
+        /* a material without youngs_modulus is a fluid: the eulerian
+         * formulations take fluids only, the others solids only */
+        const config_setting_t *E_at = config_setting_get_member(m, "youngs_modulus");
+        if (eulerian && E_at)
+            return fail_at(L, E_at, NULL,
+                           "material '%s' is a solid (it has a youngs_modulus), and formulation "
+                           "\"%s\" simulates a fluid; a fluid material has density, "
+                           "%s and viscosity",
+                           m->name, sph_formulation_name(sc->formulation),
+                           sc->formulation == SPH_FORMULATION_EULERIAN_WC ? "sound_speed"
+                                                                          : "gamma");
+        if (eulerian) {
+            if ((st = parse_fluid_material(L, m, mat))) return st;
+            continue;
+        }
+        if (!E_at && !config_setting_get_member(m, "poisson_ratio"))
+            return fail_at(L, m, NULL,
+                           "a material without youngs_modulus is a fluid, which needs "
+                           "method.formulation \"eulerian-wc\" or \"eulerian-compressible\", "
+                           "got \"%s\"; a solid material gives youngs_modulus and poisson_ratio",
+                           sph_formulation_name(sc->formulation));
+        static const char *const fluid_only[] = {"viscosity", "gamma"};
+        for (size_t k = 0; k < sizeof fluid_only / sizeof fluid_only[0]; ++k) {
+            const config_setting_t *s = config_setting_get_member(m, fluid_only[k]);
+            if (s)
+                return fail_at(L, s, NULL,
+                               "is for fluid materials (formulations \"eulerian-wc\" and "
+                               "\"eulerian-compressible\"); material '%s' is a solid (it has a "
+                               "youngs_modulus)",
+                               m->name);
+        }
+        if ((st = get_float(L, m, "density", true, 0, 0, true, INFINITY, false, &mat->density)) ||
             (st = get_float(L, m, "youngs_modulus", true, 0, 0, true, INFINITY, false,
                             &mat->youngs_modulus)) ||
             (st = get_float(L, m, "poisson_ratio", true, 0, 0, false, 0.5, true,
                             &mat->poisson_ratio)))
             return st;
-        snprintf(mat->name, sizeof mat->name, "%s", m->name);
         mat->plastic = config_setting_get_member(m, "yield_stress") != NULL;
         if ((st = get_float(L, m, "yield_stress", false, 0.0, 0, true, INFINITY, false,
                             &mat->yield_stress)) ||
@@ -1666,9 +1820,10 @@ static int find_material(const sph_scene *sc, const char *name) {
 
 /* `axes = ["x", "y"]`: the constrained axes of a constraint, as a bit mask;
  * all axes when absent and not required. */
-static sph_status parse_axes(loader *L, const config_setting_t *c, bool required, int *mask) {
+static sph_status parse_axis_list(loader *L, const config_setting_t *c, const char *key,
+                                  bool required, int *mask) {
     const config_setting_t *s;
-    sph_status st = get_member(L, c, "axes", required, &s);
+    sph_status st = get_member(L, c, key, required, &s);
     if (st || !s) return st;
     if (!config_setting_is_array(s) && !config_setting_is_list(s))
         return fail_at(L, s, NULL, "expected an array of axes such as [\"x\"], got %s",
@@ -1690,6 +1845,10 @@ static sph_status parse_axes(loader *L, const config_setting_t *c, bool required
         *mask |= 1 << a;
     }
     return SPH_OK;
+}
+
+static sph_status parse_axes(loader *L, const config_setting_t *c, bool required, int *mask) {
+    return parse_axis_list(L, c, "axes", required, mask);
 }
 
 /* Element `index` of a list of named groups (bodies, observers, walls): a
@@ -1764,16 +1923,81 @@ static sph_status parse_placement(loader *L, const config_setting_t *b, sph_body
     return SPH_OK;
 }
 
+/* An initial scalar field of a fluid body: a number (kept as its %.17g
+ * text, and then checked > 0 here) or an expression of x, y (, z) and the
+ * constants, compiled now and evaluated per particle by particles.c. */
+static sph_status parse_initial_scalar(loader *L, const config_setting_t *s, const char *what,
+                                       char *text, size_t size, char *where, size_t wsize) {
+    where_of(L, s, where, wsize);
+    if (config_setting_is_number(s)) {
+        double v = 0.0;
+        sph_status st = as_float(L, s, &v);
+        if (st) return st;
+        if (!(v > 0.0)) return fail_at(L, s, NULL, "an initial %s must be > 0, got %g", what, v);
+        snprintf(text, size, "%.17g", v);
+        return SPH_OK;
+    }
+    if (config_setting_type(s) != CONFIG_TYPE_STRING)
+        return fail_at(L, s, NULL,
+                       "expected a number or an expression string of x, y%s and the constants, "
+                       "got %s",
+                       L->scene->dim == 3 ? ", z" : "", type_name(config_setting_type(s)));
+    return parse_expression(L, s, text, size);
+}
+
+/* bodies[i].initial_density and .initial_pressure: the initial state of a
+ * fluid body.  The weakly compressible fluid's pressure follows from its
+ * density (p = c0^2 (rho - rho0), seed 004 eq. 11), so only the density is
+ * given (default rho0); the ideal gas needs its pressure (its energy
+ * E = p / (gamma - 1) + rho |v|^2 / 2 follows), the density defaulting to
+ * the material's. */
+static sph_status parse_fluid_state(loader *L, const config_setting_t *b, sph_body *body) {
+    const sph_formulation f = L->scene->formulation;
+    const config_setting_t *rho_at = config_setting_get_member(b, "initial_density");
+    const config_setting_t *p_at = config_setting_get_member(b, "initial_pressure");
+    body->initial_density[0] = body->initial_density_where[0] = '\0';
+    body->initial_pressure[0] = body->initial_pressure_where[0] = '\0';
+    if (!SPH_FORMULATION_IS_EULERIAN(f)) {
+        if (rho_at || p_at)
+            return fail_at(L, rho_at ? rho_at : p_at, NULL,
+                           "is for fluid bodies (formulations \"eulerian-wc\" and "
+                           "\"eulerian-compressible\"); formulation \"%s\" starts a solid at its "
+                           "material's density and zero stress",
+                           sph_formulation_name(f));
+        return SPH_OK;
+    }
+    if (f == SPH_FORMULATION_EULERIAN_WC && p_at)
+        return fail_at(L, p_at, NULL,
+                       "formulation \"eulerian-wc\" derives the pressure from the density, "
+                       "p = c0^2 (rho - rho0) (seed 004 eq. 11): give initial_density instead");
+    if (f == SPH_FORMULATION_EULERIAN_COMPRESSIBLE && !p_at)
+        return fail_at(L, b, "initial_pressure",
+                       "missing required key: the ideal gas of formulation "
+                       "\"eulerian-compressible\" starts from a pressure (a number or an "
+                       "expression of x, y%s), from which its energy follows",
+                       L->scene->dim == 3 ? ", z" : "");
+    sph_status st;
+    if (rho_at && (st = parse_initial_scalar(
+                       L, rho_at, "density", body->initial_density, sizeof body->initial_density,
+                       body->initial_density_where, sizeof body->initial_density_where)))
+        return st;
+    if (p_at && (st = parse_initial_scalar(
+                     L, p_at, "pressure", body->initial_pressure, sizeof body->initial_pressure,
+                     body->initial_pressure_where, sizeof body->initial_pressure_where)))
+        return st;
+    return SPH_OK;
+}
+
 static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     sph_scene *sc = L->scene;
     sph_body *body = &sc->bodies[index];
     const config_setting_t *at, *vel, *cons;
     const char *name = "", *material = "", *shape = "";
-    sph_status st = named_group_element(L, b, index, "a body group { name; material; shape; }",
-                                        "body", "bodies",
-                                        KEYS("name", "material", "shape", "initial_velocity",
-                                             "constraints", "placement", "relaxation"),
-                                        sc->bodies[0].name, sizeof sc->bodies[0], &name, &at);
+    sph_status st = named_group_element(
+        L, b, index, "a body group { name; material; shape; }", "body", "bodies",
+        KEYS("name", "material", "shape", "initial_velocity", "constraints", "placement",
+             "relaxation", "initial_density", "initial_pressure"),
+        sc->bodies[0].name, sizeof sc->bodies[0], &name, &at);
     if (st) return st;
     snprintf(body->name, sizeof body->name, "%s", name);
     where_of(L, b, body->where, sizeof body->where);
@@ -1797,11 +2021,15 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     if ((st = get_group(L, b, "initial_velocity", false, &vel))) return st;
     if (vel && (st = parse_velocity(L, vel, &body->velocity))) return st;
 
-    if ((st = parse_placement(L, b, body))) return st;
+    if ((st = parse_placement(L, b, body)) || (st = parse_fluid_state(L, b, body))) return st;
 
     body->nconstraints = 0;
     if ((st = get_list(L, b, "constraints", false, &cons))) return st;
     int nc = cons ? config_setting_length(cons) : 0;
+    /* fluids: type "fixed" holds the state of the region's particles at its
+     * initial value, a Dirichlet buffer (device/eulerian_step.cl); the
+     * other types move a solid's particles and mean nothing here */
+    const bool fluid_body = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
     if (nc > SPH_SCENE_MAX_CONSTRAINTS)
         return fail_at(L, cons, NULL, "at most %d constraints per body, got %d",
                        SPH_SCENE_MAX_CONSTRAINTS, nc);
@@ -1817,6 +2045,12 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
         if ((st = get_keyword(L, c, "type", true, 0, KEYS("fixed", "fixed_axes", "velocity"), &type,
                               NULL)))
             return st;
+        if (fluid_body && type != 0)
+            return fail_at(L, c, "type",
+                           "a fluid body takes constraints of type \"fixed\" only (its region's "
+                           "state held at the initial one, a Dirichlet buffer); formulation "
+                           "\"%s\" keeps every particle in place",
+                           sph_formulation_name(sc->formulation));
         if (type == SPH_CONSTRAINT_FIXED)
             st = check_keys(L, c, KEYS("type", "region"));
         else if (type == SPH_CONSTRAINT_FIXED_AXES)
@@ -1909,8 +2143,8 @@ static sph_status parse_analysis(loader *L, const config_setting_t *root) {
 }
 
 static const char *const OUTPUT_FIELD_NAMES[SPH_OUT_COUNT] = {
-    "velocity",     "displacement", "density",     "pressure",      "von_mises",
-    "shear_stress", "body_id",      "particle_id", "plastic_strain"};
+    "velocity", "displacement", "density",        "pressure",  "von_mises",  "shear_stress",
+    "body_id",  "particle_id",  "plastic_strain", "vorticity", "mach_number"};
 
 static bool scene_is_plastic(const sph_scene *sc) {
     for (int b = 0; b < sc->nbodies; ++b)
@@ -1931,8 +2165,21 @@ static sph_status parse_output(loader *L, const config_setting_t *root) {
     static const sph_output_field defaults[] = {
         SPH_OUT_VELOCITY,  SPH_OUT_DISPLACEMENT, SPH_OUT_DENSITY,    SPH_OUT_PRESSURE,
         SPH_OUT_VON_MISES, SPH_OUT_BODY_ID,      SPH_OUT_PARTICLE_ID};
-    for (size_t k = 0; k < sizeof defaults / sizeof defaults[0]; ++k)
-        sc->output_field[defaults[k]] = true;
+    /* a fluid's particles do not move and carry no stress deviator: no
+     * displacement, von Mises or shear stress; the flow's own fields instead */
+    static const sph_output_field fluid_defaults[] = {SPH_OUT_VELOCITY, SPH_OUT_DENSITY,
+                                                      SPH_OUT_PRESSURE, SPH_OUT_VORTICITY,
+                                                      SPH_OUT_PARTICLE_ID};
+    const bool eulerian = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
+    const bool compressible = sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
+    if (eulerian) {
+        for (size_t k = 0; k < sizeof fluid_defaults / sizeof fluid_defaults[0]; ++k)
+            sc->output_field[fluid_defaults[k]] = true;
+        sc->output_field[SPH_OUT_MACH_NUMBER] = compressible;
+    } else {
+        for (size_t k = 0; k < sizeof defaults / sizeof defaults[0]; ++k)
+            sc->output_field[defaults[k]] = true;
+    }
     const bool plastic = scene_is_plastic(sc);
     sc->output_field[SPH_OUT_PLASTIC_STRAIN] = plastic;
     sc->snapshot_interval = 10.0 * sc->output_interval;
@@ -1962,6 +2209,29 @@ static sph_status parse_output(loader *L, const config_setting_t *root) {
                 suggest(name, OUTPUT_FIELD_NAMES, SPH_OUT_COUNT, "fields", hint, sizeof hint);
                 return fail_at(L, e, NULL, "unknown output field '%s'%s", name, hint);
             }
+            const bool solid_field = found == SPH_OUT_DISPLACEMENT || found == SPH_OUT_VON_MISES ||
+                                     found == SPH_OUT_SHEAR_STRESS ||
+                                     found == SPH_OUT_PLASTIC_STRAIN;
+            if (eulerian && solid_field)
+                return fail_at(L, e, NULL,
+                               "%s is a field of the solid formulations; formulation \"%s\" "
+                               "keeps its particles fixed and has no stress deviator (fluid "
+                               "fields: velocity, density, pressure, vorticity, body_id, "
+                               "particle_id%s)",
+                               name, sph_formulation_name(sc->formulation),
+                               compressible ? ", mach_number" : "");
+            if (!eulerian && (found == SPH_OUT_VORTICITY || found == SPH_OUT_MACH_NUMBER))
+                return fail_at(L, e, NULL,
+                               "%s is a fluid field (formulations \"eulerian-wc\" and "
+                               "\"eulerian-compressible\"), and this scene's formulation is "
+                               "\"%s\"",
+                               name, sph_formulation_name(sc->formulation));
+            if (found == SPH_OUT_MACH_NUMBER && !compressible)
+                return fail_at(L, e, NULL,
+                               "mach_number is a field of formulation \"eulerian-compressible\", "
+                               "whose sound speed c = sqrt(gamma p / rho) varies; the weakly "
+                               "compressible fluid's Mach number is |v| / c0 (the velocity field "
+                               "over sound_speed)");
             if (found == SPH_OUT_PLASTIC_STRAIN && !plastic)
                 return fail_at(L, e, NULL,
                                "plastic_strain needs a plastic material (a yield_stress), and "
@@ -2036,6 +2306,11 @@ static sph_status parse_walls(loader *L, const config_setting_t *root) {
                        "\"tlsph\" has no wall contact; walls are implemented for the "
                        "updated-Lagrangian formulations");
     }
+    if (n > 0 && SPH_FORMULATION_IS_EULERIAN(sc->formulation))
+        return fail_at(L, list, NULL,
+                       "walls are not supported for the eulerian formulations yet (formulation "
+                       "\"%s\"); a fluid scene is bounded by its periodic boundary or open",
+                       sph_formulation_name(sc->formulation));
     for (int i = 0; i < n; i++) {
         const config_setting_t *w = config_setting_get_elem(list, (unsigned)i), *at;
         const char *name = "";
@@ -2082,6 +2357,12 @@ static sph_status parse_contact(loader *L, const config_setting_t *root) {
                        sc->nbodies);
     }
     if (!g) return SPH_OK;
+    /* the bodies of a fluid scene are regions of one fluid: no contact */
+    if (SPH_FORMULATION_IS_EULERIAN(sc->formulation))
+        return fail_at(L, g, NULL,
+                       "is for the solid formulations (contact between bodies and against "
+                       "walls); the bodies of formulation \"%s\" are regions of one fluid",
+                       sph_formulation_name(sc->formulation));
     if (sc->nbodies < 2 && sc->nwalls == 0)
         return fail_at(L, g, NULL,
                        "contact acts between bodies or against walls, and the scene has one body "
@@ -2091,6 +2372,71 @@ static sph_status parse_contact(loader *L, const config_setting_t *root) {
                         &sc->contact_impedance)) ||
         (st = get_float(L, g, "penalty", false, 1.0, 0, false, 100, false, &sc->contact_penalty)))
         return st;
+    return SPH_OK;
+}
+
+/* boundary = { periodic = ["x", ...]; lower = [...]; upper = [...]; }: the
+ * fluid wraps around along the periodic axes with the period upper - lower
+ * (the seed's Taylor-Green vortex, seed 004 §4.2; the Shu-Osher strip's
+ * y).  The period must hold a whole number of spacings, so that the lattice
+ * continues across the seam dp apart (particles.c anchors it at lower and
+ * checks every particle), and at least two cut-off radii, so that no pair
+ * meets through two images at once. */
+static sph_status parse_boundary(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g, *upper_at;
+    sph_status st = get_group(L, root, "boundary", false, &g);
+    if (st || !g) return st;
+    if (!SPH_FORMULATION_IS_EULERIAN(sc->formulation))
+        return fail_at(L, g, NULL,
+                       "periodic boundaries are implemented for the eulerian formulations "
+                       "(\"eulerian-wc\", \"eulerian-compressible\"), got formulation \"%s\"",
+                       sph_formulation_name(sc->formulation));
+    int mask = 0;
+    if ((st = check_keys(L, g, KEYS("periodic", "lower", "upper"))) ||
+        (st = parse_axis_list(L, g, "periodic", true, &mask)) ||
+        (st = get_vector(L, g, "lower", true, sc->dim, sc->periodic_lower, NULL)) ||
+        (st = get_vector(L, g, "upper", true, sc->dim, sc->periodic_upper, &upper_at)))
+        return st;
+    const double dp = sc->dp;
+    /* the cut-off radius 2h = 2 smoothing_ratio dp */
+    const double cutoff_dp = 2.0 * sc->smoothing_ratio;
+    for (int a = 0; a < sc->dim; ++a) {
+        if (!(mask & (1 << a))) continue;
+        const double lo = sc->periodic_lower[a], hi = sc->periodic_upper[a];
+        if (!(hi > lo))
+            return fail_at(L, upper_at, NULL,
+                           "must exceed lower along the periodic axis %s, got upper = %g, "
+                           "lower = %g",
+                           AXES[a], hi, lo);
+        const double period = hi - lo, cells = period / dp, whole = round(cells);
+        if (!isfinite(cells) || fabs(cells - whole) > 1e-9 * fmax(1.0, cells))
+            return fail_at(L, upper_at, NULL,
+                           "the period along %s, upper - lower = %.10g, must be a whole number "
+                           "of particle spacings (dp = %g), got %.10g dp",
+                           AXES[a], period, dp, cells);
+        if (whole < 2.0 * cutoff_dp - 1e-9)
+            return fail_at(L, upper_at, NULL,
+                           "the period along %s (%g) is shorter than two cut-off radii (2 x %g "
+                           "dp = %g): a particle would meet a neighbour through two images",
+                           AXES[a], period, cutoff_dp, 2.0 * cutoff_dp * dp);
+    }
+    /* the relaxation (relax.h) knows nothing of the images */
+    const config_setting_t *bodies = config_setting_get_member(root, "bodies");
+    for (int b = 0; b < sc->nbodies; ++b) {
+        if (sc->bodies[b].placement != SPH_PLACEMENT_RELAXED) continue;
+        const config_setting_t *e = config_setting_get_elem(bodies, (unsigned)b);
+        const config_setting_t *at = e ? config_setting_get_member(e, "placement") : NULL;
+        return fail_at(L, at ? at : g, at ? NULL : "periodic",
+                       "a relaxed placement is not supported with a periodic boundary yet: the "
+                       "relaxation does not see the particles across the seam; place the body "
+                       "on the lattice");
+    }
+    sc->periodic_mask = mask;
+    /* a group that --set created on the way to a member has no line and no
+     * override of its own: name the override of upper */
+    const bool located = override_of(g) || config_setting_source_line(g) > 0;
+    where_of(L, located ? g : upper_at, sc->periodic_where, sizeof sc->periodic_where);
     return SPH_OK;
 }
 
@@ -2163,7 +2509,7 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
                          KEYS("title", "dimension", "resolution", "method", "time", "materials",
                               "shapes", "bodies", "observers", "analysis", "gravity",
                               "lattice_origin", "output", "monitor", "contact", "walls",
-                              "constants"))))
+                              "constants", "boundary"))))
         return st;
 
     const config_setting_t *at;
@@ -2192,7 +2538,7 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
         (st = parse_monitor(L, root)))
         return st;
     if ((st = check_material_model(L, root)) || (st = parse_walls(L, root)) ||
-        (st = parse_contact(L, root)))
+        (st = parse_contact(L, root)) || (st = parse_boundary(L, root)))
         return st;
     if ((st = get_vector(L, root, "gravity", false, sc->dim, sc->gravity, NULL)) ||
         (st = get_vector(L, root, "lattice_origin", false, sc->dim, sc->lattice_origin, &at)))
@@ -2521,6 +2867,8 @@ const char *sph_formulation_name(sph_formulation f) {
     case SPH_FORMULATION_GNOG:
     case SPH_FORMULATION_GNOG_A:
     case SPH_FORMULATION_TLSPH:
+    case SPH_FORMULATION_EULERIAN_WC:
+    case SPH_FORMULATION_EULERIAN_COMPRESSIBLE:
         return FORMULATION_NAMES[f];
     }
     return "?";

@@ -40,8 +40,15 @@ typedef enum {
     SPH_FORMULATION_OAS = 3,
     SPH_FORMULATION_GNOG = 4,
     SPH_FORMULATION_GNOG_A = 5,
-    SPH_FORMULATION_TLSPH = 6
+    SPH_FORMULATION_TLSPH = 6,
+    /* seed 004 §3.1: fixed particles, conserved variables, Riemann fluxes
+     * (device/eulerian_step.cl); weakly compressible p = c0^2 (rho - rho0)
+     * with the linearised solver, or an ideal gas with HLLC and energy */
+    SPH_FORMULATION_EULERIAN_WC = 7,
+    SPH_FORMULATION_EULERIAN_COMPRESSIBLE = 8
 } sph_formulation;
+#define SPH_FORMULATION_IS_EULERIAN(f)                                                             \
+    ((f) == SPH_FORMULATION_EULERIAN_WC || (f) == SPH_FORMULATION_EULERIAN_COMPRESSIBLE)
 /* values equal the device's ROTATION_* */
 typedef enum {
     SPH_ROTATION_NONE = 0,
@@ -121,6 +128,12 @@ typedef struct {
      * yield_stress is given */
     bool plastic;
     double yield_stress, hardening_modulus;
+    /* fluids (the eulerian formulations): `fluid` when the material has no
+     * youngs_modulus; density is rho0 (WC: p = c0^2 (rho - rho0) with
+     * c0 = sound_speed), viscosity the dynamic viscosity mu (eq. 13, 0: none),
+     * gamma the ideal gas's ratio of specific heats (compressible) */
+    bool fluid;
+    double viscosity, gamma;
 } sph_material;
 
 typedef enum {
@@ -163,6 +176,13 @@ typedef struct {
     sph_relaxation relaxation; /* placement == SPH_PLACEMENT_RELAXED */
     int nconstraints;
     sph_constraint constraints[SPH_SCENE_MAX_CONSTRAINTS];
+    /* fluid bodies: initial density and pressure as expressions of x, y, z
+     * and the scene's constants ("": not given; the material's density, the
+     * pressure of the EOS); *_where as expression_where of the velocity */
+    char initial_density[SPH_EXPRESSION_MAX_LEN];
+    char initial_density_where[SPH_SCENE_WHERE_LEN];
+    char initial_pressure[SPH_EXPRESSION_MAX_LEN];
+    char initial_pressure_where[SPH_SCENE_WHERE_LEN];
     /* where it is defined, for messages about it after loading (overlaps,
      * no particles): "<file>:<line>: bodies.<name>" or "--set ...: ..." */
     char where[SPH_SCENE_WHERE_LEN];
@@ -192,6 +212,8 @@ typedef enum {
     SPH_OUT_BODY_ID,
     SPH_OUT_PARTICLE_ID,
     SPH_OUT_PLASTIC_STRAIN, /* plastic materials only */
+    SPH_OUT_VORTICITY,      /* fluids: curl v (2D: the z component) */
+    SPH_OUT_MACH_NUMBER,    /* fluids, compressible: |v| / c */
     SPH_OUT_COUNT
 } sph_output_field;
 
@@ -260,6 +282,12 @@ typedef struct {
     sph_observer observers[SPH_SCENE_MAX_OBSERVERS];
     int nwalls;
     sph_wall walls[SPH_MAX_WALLS];
+
+    /* fluids: `boundary.periodic` (bit a: axis a wraps around with the
+     * period periodic_upper[a] - periodic_lower[a]) */
+    int periodic_mask;
+    double periodic_lower[3], periodic_upper[3];
+    char periodic_where[SPH_SCENE_WHERE_LEN]; /* "<file>:<line>: boundary" */
 
     /* snapshots: every `snapshot_every` output times (0: none) and at the end */
     double snapshot_interval;

@@ -95,8 +95,13 @@ sph_status sph_snapshots_open(sph_snapshots *s, const char *run_dir,
     s->id = malloc(nn * sizeof(int32_t));
     s->body = calloc(nn, 1);
     s->row_scratch = malloc(nn * 6 * sizeof(double));
+    s->fluid = SPH_FORMULATION_IS_EULERIAN(ctx->scene->formulation);
+    if (s->fluid) {
+        s->pressure = malloc(nn * sizeof(double));
+        s->vorticity = malloc(nn * 3 * sizeof(double));
+    }
     if (!s->times || !s->pos || !s->vel || !s->rho || !s->tau || !s->alpha || !s->id || !s->body ||
-        !s->row_scratch)
+        !s->row_scratch || (s->fluid && (!s->pressure || !s->vorticity)))
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for snapshots");
     for (int k = 0; k < keep; ++k) s->times[k] = kept_times[k];
     s->count = keep;
@@ -123,6 +128,54 @@ static void by_id(const sph_snapshots *s, const double *in, int in_comps, int co
  * in single precision, double in double and mixed (a history field). */
 static hid_t position_type(const sph_snapshots *s) {
     return strcmp(s->ctx.precision, "single") == 0 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
+}
+
+static sph_status write_ids(const sph_snapshots *s, const sph_h5_writer *w, hid_t pd,
+                            sph_error *err);
+
+/* Fluids, after velocity and density: pressure (the EOS state the run
+ * holds), vorticity (the z component in 2D, a vector in 3D, of the last
+ * step's velocity, device/eulerian_step.cl), the Mach number |v| / c with
+ * the ideal gas's c = sqrt(gamma p / rho) (compressible), the ids. */
+static sph_status write_fluid_point_data(const sph_snapshots *s, const sph_h5_writer *w, hid_t pd,
+                                         sph_error *err) {
+    const sph_scene *sc = s->ctx.scene;
+    const int n = s->n, dim = s->dim;
+    double *rows = s->row_scratch;
+    const hsize_t vec_dims[2] = {(hsize_t)n, 3}, scalar_dims[1] = {(hsize_t)n};
+    sph_status st = SPH_OK;
+    if (sc->output_field[SPH_OUT_PRESSURE]) {
+        by_id(s, s->pressure, 1, 1, rows);
+        st = sph_h5_write(w, pd, "pressure", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, scalar_dims,
+                          rows, err);
+    }
+    if (!st && sc->output_field[SPH_OUT_VORTICITY]) {
+        if (dim == 2) {
+            by_id(s, s->vorticity, 1, 1, rows);
+            st = sph_h5_write(w, pd, "vorticity", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, scalar_dims,
+                              rows, err);
+        } else {
+            by_id(s, s->vorticity, 3, 3, rows);
+            st = sph_h5_write(w, pd, "vorticity", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 2, vec_dims,
+                              rows, err);
+        }
+    }
+    if (!st && sc->output_field[SPH_OUT_MACH_NUMBER]) {
+        const cpu_kernels *k = cpu_kernels_for(dim, true);
+        for (int i = 0; i < n; ++i) {
+            double v2 = 0.0;
+            for (int a = 0; a < dim; ++a) {
+                const double v = s->vel[(size_t)a * (size_t)n + (size_t)i];
+                v2 += v * v;
+            }
+            const double c =
+                k->ideal_gas_sound_speed(s->pressure[i], s->rho[i], s->ctx.prm->materials[0].gamma);
+            rows[s->id[i]] = sqrt(v2) / c;
+        }
+        st = sph_h5_write(w, pd, "mach_number", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, scalar_dims,
+                          rows, err);
+    }
+    return st ? st : write_ids(s, w, pd, err);
 }
 
 static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *w, hid_t pd,
@@ -158,6 +211,7 @@ static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *
         st =
             sph_h5_write(w, pd, "density", H5T_NATIVE_DOUBLE, real_type, 1, scalar_dims, rows, err);
     }
+    if (s->fluid) return st ? st : write_fluid_point_data(s, w, pd, err);
     const bool want_p = sc->output_field[SPH_OUT_PRESSURE],
                want_vm = sc->output_field[SPH_OUT_VON_MISES],
                want_tau = sc->output_field[SPH_OUT_SHEAR_STRESS];
@@ -199,7 +253,17 @@ static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *
         st = sph_h5_write(w, pd, "plastic_strain", H5T_NATIVE_DOUBLE, real_type, 1, scalar_dims,
                           rows, err);
     }
-    if (!st && (sc->output_field[SPH_OUT_BODY_ID] || sc->output_field[SPH_OUT_PARTICLE_ID])) {
+    return st ? st : write_ids(s, w, pd, err);
+}
+
+static sph_status write_ids(const sph_snapshots *s, const sph_h5_writer *w, hid_t pd,
+                            sph_error *err) {
+    const sph_scene *sc = s->ctx.scene;
+    const int n = s->n;
+    double *rows = s->row_scratch;
+    const hsize_t scalar_dims[1] = {(hsize_t)n};
+    sph_status st = SPH_OK;
+    if (sc->output_field[SPH_OUT_BODY_ID] || sc->output_field[SPH_OUT_PARTICLE_ID]) {
         int32_t *ints = (int32_t *)rows; /* n int32 fit in the n*6 doubles */
         if (sc->output_field[SPH_OUT_BODY_ID]) {
             for (int i = 0; i < n; ++i) ints[s->id[i]] = s->body[i];
@@ -335,7 +399,18 @@ sph_status sph_snapshots_write(sph_snapshots *s, sph_backend *be, double t, long
         st = be->ops->download(be, FIELD_VEL, s->vel, err);
     if (!st && (want_stress || sc->output_field[SPH_OUT_DENSITY]))
         st = be->ops->download(be, FIELD_RHO, s->rho, err);
-    if (!st && want_stress) st = be->ops->download(be, FIELD_TAU, s->tau, err);
+    if (s->fluid) {
+        if (!st && (sc->output_field[SPH_OUT_PRESSURE] || sc->output_field[SPH_OUT_MACH_NUMBER]))
+            st = be->ops->download(be, FIELD_PRESSURE, s->pressure, err);
+        if (!st && sc->output_field[SPH_OUT_MACH_NUMBER] && !sc->output_field[SPH_OUT_VELOCITY])
+            st = be->ops->download(be, FIELD_VEL, s->vel, err);
+        if (!st && sc->output_field[SPH_OUT_MACH_NUMBER] && !sc->output_field[SPH_OUT_DENSITY])
+            st = be->ops->download(be, FIELD_RHO, s->rho, err);
+        if (!st && sc->output_field[SPH_OUT_VORTICITY])
+            st = be->ops->download(be, FIELD_VORTICITY, s->vorticity, err);
+    } else if (!st && want_stress) {
+        st = be->ops->download(be, FIELD_TAU, s->tau, err);
+    }
     if (!st && sc->output_field[SPH_OUT_PLASTIC_STRAIN])
         st = be->ops->download(be, FIELD_PLASTIC_STRAIN, s->alpha, err);
     if (!st && sc->output_field[SPH_OUT_BODY_ID]) {
@@ -370,5 +445,7 @@ void sph_snapshots_close(sph_snapshots *s) {
     free(s->id);
     free(s->body);
     free(s->row_scratch);
+    free(s->pressure);
+    free(s->vorticity);
     memset(s, 0, sizeof *s);
 }

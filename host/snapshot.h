@@ -43,6 +43,9 @@ typedef struct {
     double job_time;
     long job_acoustic, job_advection;
     double *pos, *vel, *rho, *tau, *alpha; /* backend order, field layout */
+    /* fluids (the eulerian formulations): pressure [n], vorticity [3n] */
+    double *pressure, *vorticity;
+    bool fluid;
     int32_t *id;
     uint8_t *body;
     double *row_scratch; /* [n * 6] */

@@ -137,10 +137,13 @@ static sph_status check_stability(const sph_solver_args *a, const sph_timeseries
     if (sc->monitor_action == SPH_MONITOR_OFF || ts->count == 0 || !isnan(stats->instability_time))
         return SPH_OK;
     const sph_diagnostics *d = &ts->diag[ts->count - 1];
-    if (d->zigzag > sc->monitor_zigzag)
+    /* fixed fluid particles neither cluster nor zigzag (and their periodic
+     * images are not in the monitor's pair distances) */
+    const bool fluid = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
+    if (!fluid && d->zigzag > sc->monitor_zigzag)
         return trip(a, SPH_TRIP_ZIGZAG, t, "zigzag indicator", d->zigzag, sc->monitor_zigzag,
                     domain, stats, err);
-    if (d->min_distance_ratio < sc->monitor_min_distance)
+    if (!fluid && d->min_distance_ratio < sc->monitor_min_distance)
         return trip(a, SPH_TRIP_CLUSTERING, t, "minimum pair distance / dp", d->min_distance_ratio,
                     sc->monitor_min_distance, domain, stats, err);
     /* without external work (a constraint that prescribes a velocity) the
@@ -149,7 +152,9 @@ static sph_status check_stability(const sph_solver_args *a, const sph_timeseries
     const double e0 = ts->diag[0].kinetic + ts->diag[0].strain, e = d->kinetic + d->strain;
     bool gravity = false;
     for (int k = 0; k < sc->dim; ++k) gravity |= sc->gravity[k] != 0.0;
-    if (e0 > 0 && !gravity && !sph_scene_has_driven_constraint(sc) &&
+    /* a fluid's fixed-state buffers let energy flow in (Shu-Osher's inflow) */
+    const bool inflow = fluid && sph_constraint_count(sc) > 0;
+    if (e0 > 0 && !gravity && !inflow && !sph_scene_has_driven_constraint(sc) &&
         e > (1.0 + sc->monitor_energy_growth) * e0)
         return trip(a, SPH_TRIP_ENERGY, t, "total energy / initial", e / e0,
                     1.0 + sc->monitor_energy_growth, domain, stats, err);
@@ -201,7 +206,9 @@ static void monitor_domain(const sph_scene *sc, const sph_particles *p, double d
  * time.frozen_geometry = "start" (the public reference code's choice): 0. */
 static double geometry_shift(const sph_scene *sc, double h, double c0, double u_ref,
                              double max_speed2, double t, double next_output) {
-    if (sc->formulation == SPH_FORMULATION_TLSPH || sc->geometry_at_start) return 0.0;
+    if (sc->formulation == SPH_FORMULATION_TLSPH || SPH_FORMULATION_IS_EULERIAN(sc->formulation) ||
+        sc->geometry_at_start)
+        return 0.0;
     const double speed = sqrt(max_speed2);
     double interval;
     if (sc->stepping == SPH_STEPPING_DUAL) {
@@ -298,7 +305,15 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
      * t = 0 gives the reference neighbours, pair geometry and B0, and there is
      * no later rebuild, hence no advection step: every acoustic step (the
      * acoustic CFL criterion only) is an outer step of its own. */
-    const bool total_lagrangian = sc->formulation == SPH_FORMULATION_TLSPH;
+    /* The fluid formulations (eulerian_step.cl) keep their particles fixed:
+     * one rebuild too, and no advection step. */
+    const bool fluid = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
+    const bool total_lagrangian = sc->formulation == SPH_FORMULATION_TLSPH || fluid;
+    /* The step clock's speed (device/sph_step_clock.h): dt = CFL h / (C0 +
+     * max speed).  The compressible fluid's reduction gives the signal speed
+     * max (c + |v|) itself, each particle's sound speed its own: C0 = 0. */
+    const bool own_sound_speed = sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
+    const double c_clock = own_sound_speed ? 0.0 : c0;
     /* the largest initial speed: U_ref unless the scene gives one, and the
      * speed that sets the first rebuild's geometry shift */
     double v0max2 = 0.0;
@@ -312,7 +327,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     }
     const double u_ref = sc->has_reference_speed ? sc->reference_speed : sqrt(v0max2);
     stats->reference_speed = u_ref;
-    const double speed_limit = sc->monitor_speed_limit * (c0 + u_ref);
+    double speed_limit = sc->monitor_speed_limit * (c0 + u_ref);
 
     const double t0 = sph_wall_seconds();
     sph_rebuild_info info;
@@ -347,11 +362,19 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             geometry_shift(sc, h, c0, u_ref, v0max2, 0.0, fmin(sc->output_interval, sc->end_time));
         if (!st) st = be->ops->rebuild(be, &info, err);
         max_speed2 = info.max_speed2;
+        if (!st && !isfinite(max_speed2))
+            st = sph_fail(err, SPH_ERR_INPUT,
+                          "%s: the initial state has a non-finite speed or a density or "
+                          "pressure that is not positive",
+                          sc->path);
         if (!st) st = sample(a, &s, 0.0, ts, &ms, err);
         if (!st && a->snapshots) st = sph_snapshots_write(a->snapshots, be, 0.0, 0, 0, err);
         if (!st) st = check_stability(a, ts, &ms, 0.0, domain, stats, err);
         output_index = 1;
     }
+    /* the compressible fluid's limit: monitor.speed_limit times the initial
+     * largest signal speed (the first rebuild's, before any restored state) */
+    if (own_sound_speed) speed_limit = sc->monitor_speed_limit * sqrt(info.max_speed2);
     const long start_steps = stats->acoustic_steps;
     sph_progress progress;
     sph_progress_init(&progress, stderr, !a->quiet, a->progress_interval, t0, t,
@@ -379,7 +402,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         clock[CLOCK_T_ADV_END] = t_adv_end;
         clock[CLOCK_NEXT_OUTPUT] = next_output;
         clock[CLOCK_CFL_H] = sc->cfl_acoustic * h;
-        clock[CLOCK_C0] = c0;
+        clock[CLOCK_C0] = c_clock;
         clock[CLOCK_ONE_SUBSTEP] = !dual || total_lagrangian;
         step_clock_plan(clock);
         bool at_output = false;
@@ -408,9 +431,13 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                 st = trip(a, SPH_TRIP_NONFINITE, t, "non-finite state", NAN, NAN, domain, stats,
                           err);
             else if (halted == CLOCK_TOO_FAST)
-                st = trip(a, SPH_TRIP_SPEED, t, "maximum speed / (c0 + initial speed)",
-                          sqrt(max_speed2) / (c0 + u_ref), sc->monitor_speed_limit, domain, stats,
-                          err);
+                st = own_sound_speed
+                         ? trip(a, SPH_TRIP_SPEED, t, "maximum (c + |v|) / initial maximum",
+                                sqrt(max_speed2) * sc->monitor_speed_limit / speed_limit,
+                                sc->monitor_speed_limit, domain, stats, err)
+                         : trip(a, SPH_TRIP_SPEED, t, "maximum speed / (c0 + initial speed)",
+                                sqrt(max_speed2) / (c0 + u_ref), sc->monitor_speed_limit, domain,
+                                stats, err);
             if (st) {
                 /* stop here, with a snapshot of the state that went wrong */
                 if (st == SPH_UNSTABLE && a->snapshots && sc->snapshot_every > 0) {

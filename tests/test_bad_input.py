@@ -47,6 +47,26 @@ PLATE_TEXT = open(PLATE).read()
 CANTILEVER = PLATE_TEXT[PLATE_TEXT.index("initial_velocity = {"):
                         PLATE_TEXT.index("};", PLATE_TEXT.index("initial_velocity = {")) + 2]
 FAST = ["--set", "resolution.ratio=4", "--set", "time.end=0.01"]
+# a fluid scene of the eulerian formulations (seed 004 §3.1; docs/scene-format.md, "Fluids"): a
+# weakly compressible fluid, periodic along x and y; the fluid rows edit it (GAS: the ideal gas)
+FLUID_TEXT = """dimension = 2;
+resolution = { dp = 0.1; };
+method = { formulation = "eulerian-wc"; };
+time = { end = 0.01; output_interval = 0.01; };
+materials = {
+  water = { density = 1.0; sound_speed = 10.0; viscosity = 0.01; };
+};
+shapes = {
+  box = { type = "box"; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };
+};
+bodies = (
+  { name = "water"; material = "water"; shape = "box"; }
+);
+boundary = { periodic = ["x", "y"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };
+"""
+GAS_TEXT = (FLUID_TEXT.replace('"eulerian-wc"', '"eulerian-compressible"')
+            .replace("sound_speed = 10.0; viscosity = 0.01;", "gamma = 1.4;")
+            .replace('shape = "box"; }', 'shape = "box"; initial_pressure = 71.43; }'))
 SCENE = "bad.cfg"  # scenes are written into the row's directory under this name
 RESULTS = ("summary.json", "timeseries.csv", "checkpoint.h5")
 # the disk-full rows fill the disk during the run: past the estimate of the
@@ -281,6 +301,40 @@ ROWS = [
         ['{file}:{line}: method.formulation: formulation "enog-a" is for elastic materials'],
         [ed("poisson_ratio = 0.3975;", "poisson_ratio = 0.3975; yield_stress = 1.0e5;")],
         marker="formulation ="),
+    # --- fluids: the eulerian formulations (docs/scene-format.md, "Fluids")
+    Row("fluid: an unphysical gamma below 1", 2,
+        ["{file}:{line}: materials.water.gamma: an ideal gas has 1 < gamma <= 5/3", "got 0.9"],
+        [ed("gamma = 1.4;", "gamma = 0.9;")], text=GAS_TEXT, marker="gamma = 0.9"),
+    Row("fluid: an unphysical gamma above 5/3", 2,
+        ["{file}:{line}: materials.water.gamma: an ideal gas has 1 < gamma <= 5/3", "got 2"],
+        [ed("gamma = 1.4;", "gamma = 2.0;")], text=GAS_TEXT, marker="gamma = 2.0"),
+    Row("fluid: a period that is not a whole number of dp", 2,
+        ["{file}:{line}: boundary.upper: the period along x, upper - lower = 1.05, must be a "
+         "whole number of particle spacings (dp = 0.1), got 10.5 dp"],
+        [ed('"y"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]',
+            '"y"]; lower = [0.0, 0.0]; upper = [1.05, 1.0]')], text=FLUID_TEXT,
+        marker="boundary = {"),
+    Row("fluid: a period shorter than two cut-off radii", 2,
+        ["{file}:{line}: boundary.upper: the period along y (0.5) is shorter than two cut-off "
+         "radii (2 x 2.6 dp = 0.52): a particle would meet a neighbour through two images"],
+        [ed('"y"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]',
+            '"y"]; lower = [0.0, 0.0]; upper = [1.0, 0.5]')], text=FLUID_TEXT,
+        marker="boundary = {"),
+    Row("fluid: the ideal gas without initial_pressure", 2,
+        ["{file}:{line}: bodies.water.initial_pressure: missing required key: the ideal gas of "
+         'formulation "eulerian-compressible" starts from a pressure'],
+        [ed(" initial_pressure = 71.43;", "")], text=GAS_TEXT, marker='{ name = "water"'),
+    Row("fluid: a negative initial density expression", 2,
+        ['{file}:{line}: bodies.water.initial_density: the expression "1 - 2 * x" gives -0.1 at '
+         "the particle at (0.55, 0.05) of body 'water': initial densities must be finite and > 0"],
+        [ed('shape = "box"; }', 'shape = "box"; initial_density = "1 - 2 * x"; }')],
+        text=FLUID_TEXT, marker="initial_density"),
+    Row("fluid: a fluid material with a solid formulation", 2,
+        ['{file}:{line}: materials.plate: a material without youngs_modulus is a fluid, which '
+         'needs method.formulation "eulerian-wc" or "eulerian-compressible", got "enog-a"'],
+        [ed("plate = { density = 1000.0; youngs_modulus = 2.0e6; poisson_ratio = 0.3975; };",
+            "plate = { density = 1000.0; sound_speed = 1500.0; };")],
+        marker="sound_speed = 1500.0"),
     # --- missing required keys
     Row("missing required key: a material's density", 2,
         ["{file}:{line}: materials.plate.density: missing required key"],

@@ -4,6 +4,7 @@
  * derived material constants follow 000 eq. 5 (c0 = sqrt(E / (3 (1 - 2 nu)
  * rho0))); every kind of bad input is rejected with SPH_ERR_INPUT and a
  * message that names the file, the line and the key path (or the override). */
+#include "particles.h"
 #include "scene.h"
 #include "test_support.h"
 
@@ -409,7 +410,7 @@ static const bad_row BAD[] = {
      "%F:4: method.formulation: expected a string, got an integer"},
     {"bad formulation", "\"enog-a\"", "\"enogx\"", NULL,
      "%F:4: method.formulation: must be one of \"enog\", \"enog-a\", \"og\", \"oas\", \"gnog\", "
-     "\"gnog-a\", \"tlsph\", got \"enogx\""},
+     "\"gnog-a\", \"tlsph\", \"eulerian-wc\", \"eulerian-compressible\", got \"enogx\""},
     {"enog with rotation averaged", "formulation = \"enog-a\"", "formulation = \"enog\"", NULL,
      "%F:4: method.rotation: formulation \"enog\" has no rotation correction"},
     {"enog-a with rotation none", "rotation = \"averaged\"", "rotation = \"none\"", NULL,
@@ -631,6 +632,224 @@ static const bad_row BAD[] = {
      "%F:2: constants.u-max: a constant's name is a letter, then letters, digits or '_'"},
     {"constants: a string", "dimension = 2;", "dimension = 2; constants = { U = \"1\"; };", NULL,
      "%F:2: constants.U: expected a number, got a string"},
+    /* fluid keys in a solid scene (seed 004 §3.1 is the eulerian formulations') */
+    {"a fluid material with a solid formulation", "youngs_modulus = 2.0e11; poisson_ratio = 0.3;",
+     "sound_speed = 1500.0;", NULL,
+     "%F:7: materials.steel: a material without youngs_modulus is a fluid, which needs "
+     "method.formulation \"eulerian-wc\" or \"eulerian-compressible\", got \"enog-a\""},
+    {"viscosity in a solid material", "poisson_ratio = 0.3;",
+     "poisson_ratio = 0.3; viscosity = 0.001;", NULL,
+     "%F:7: materials.steel.viscosity: is for fluid materials"},
+    {"gamma in a solid material", "poisson_ratio = 0.3;", "poisson_ratio = 0.3; gamma = 1.4;", NULL,
+     "%F:7: materials.steel.gamma: is for fluid materials"},
+    {"initial_density of a solid body", "shape = \"block\";",
+     "shape = \"block\"; initial_density = 7800.0;", NULL,
+     "%F:13: bodies.a.initial_density: is for fluid bodies (formulations \"eulerian-wc\" and "
+     "\"eulerian-compressible\"); formulation \"enog-a\""},
+    {"initial_pressure of a solid body", "shape = \"block\";",
+     "shape = \"block\"; initial_pressure = \"1e5\";", NULL,
+     "%F:13: bodies.a.initial_pressure: is for fluid bodies"},
+    {"a periodic boundary in a solid scene", ");\n",
+     ");\nboundary = { periodic = [\"x\"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n", NULL,
+     "%F:15: boundary: periodic boundaries are implemented for the eulerian formulations "
+     "(\"eulerian-wc\", \"eulerian-compressible\"), got formulation \"enog-a\""},
+    {"vorticity of a solid", ");\n", ");\noutput = { fields = [\"velocity\", \"vorticity\"]; };\n",
+     NULL,
+     "%F:15: output.fields.[1]: vorticity is a fluid field (formulations \"eulerian-wc\" and "
+     "\"eulerian-compressible\"), and this scene's formulation is \"enog-a\""},
+    {"mach_number of a solid", ");\n", ");\noutput = { fields = [\"mach_number\"]; };\n", NULL,
+     "%F:15: output.fields.[0]: mach_number is a fluid field"},
+};
+
+/* A small valid fluid scene (seed 004 §3.1, the weakly compressible
+ * formulation, periodic along x and y); FLUID_BAD edits it. */
+static const char FLUID_BASE[] =
+    "# fluid test scene\n"                                                                  /*  1 */
+    "dimension = 2;\n"                                                                      /*  2 */
+    "resolution = { dp = 0.1; };\n"                                                         /*  3 */
+    "method = { formulation = \"eulerian-wc\"; };\n"                                        /*  4 */
+    "time = { end = 1.0; output_interval = 0.1; };\n"                                       /*  5 */
+    "materials = {\n"                                                                       /*  6 */
+    "  water = { density = 1.0; sound_speed = 10.0; viscosity = 0.01; };\n"                 /*  7 */
+    "};\n"                                                                                  /*  8 */
+    "shapes = {\n"                                                                          /*  9 */
+    "  box = { type = \"box\"; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n"                /* 10 */
+    "};\n"                                                                                  /* 11 */
+    "bodies = (\n"                                                                          /* 12 */
+    "  { name = \"f\"; material = \"water\"; shape = \"box\"; }\n"                          /* 13 */
+    ");\n"                                                                                  /* 14 */
+    "boundary = { periodic = [\"x\", \"y\"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n"; /* 15 */
+
+/* the ideal gas of eulerian-compressible in FLUID_BASE: formulation, material, body */
+#define GAS_FORMULATION "formulation = \"eulerian-compressible\";"
+#define GAS_MATERIAL    "water = { density = 1.0; gamma = 1.4; };"
+#define GAS_BODY        "shape = \"box\"; initial_pressure = 71.43;"
+
+static const bad_row FLUID_BAD[] = {
+    /* method */
+    {"eulerian with a rotation", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; rotation = \"averaged\";", NULL,
+     "%F:4: method.rotation: formulation \"eulerian-wc\" has no rotation correction, so rotation "
+     "must be \"none\""},
+    {"eulerian with xi_e", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; xi_e = 3.5;", NULL,
+     "%F:4: method.xi_e: is for the solid formulations; formulation \"eulerian-wc\" simulates a "
+     "fluid"},
+    {"eulerian with xi_g", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; xi_g = 2.0;", NULL, "%F:4: method.xi_g: is for the solid"},
+    {"eulerian with hourglass_alpha", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; hourglass_alpha = 0.1;", NULL,
+     "%F:4: method.hourglass_alpha: is for the solid formulations"},
+    {"eulerian with artificial_stress", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; artificial_stress = { epsilon = 0.3; };", NULL,
+     "%F:4: method.artificial_stress: is for the solid formulations"},
+    {"eulerian with torque_projection", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; torque_projection = false;", NULL,
+     "%F:4: method.torque_projection: is for the solid formulations"},
+    {"eulerian: a negative limiter", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; riemann_limiter = -1.0;", NULL,
+     "%F:4: method.riemann_limiter: must be >= 0, got -1"},
+    /* time */
+    {"eulerian with dual stepping", "end = 1.0;", "end = 1.0; stepping = \"dual\";", NULL,
+     "%F:5: time.stepping: formulation \"eulerian-wc\" keeps its particles fixed: there is no "
+     "advection step"},
+    {"eulerian with cfl_advection", "end = 1.0;", "end = 1.0; cfl_advection = 0.2;", NULL,
+     "%F:5: time.cfl_advection: is for the formulations whose particles move"},
+    {"eulerian with frozen_geometry", "end = 1.0;", "end = 1.0; frozen_geometry = \"start\";", NULL,
+     "%F:5: time.frozen_geometry: is for the formulations whose particles move"},
+    {"eulerian with acceleration_criterion", "end = 1.0;",
+     "end = 1.0; acceleration_criterion = true;", NULL,
+     "%F:5: time.acceleration_criterion: is for the formulations whose particles move"},
+    /* materials */
+    {"a solid material with eulerian-wc", "sound_speed = 10.0;",
+     "youngs_modulus = 1.0e6; poisson_ratio = 0.3;", NULL,
+     "%F:7: materials.water.youngs_modulus: material 'water' is a solid (it has a youngs_modulus), "
+     "and formulation \"eulerian-wc\" simulates a fluid"},
+    {"several materials", "};\nshapes",
+     "  oil = { density = 0.9; sound_speed = 10.0; };\n};\nshapes", NULL,
+     "%F:6: materials: several materials (2) are not supported for the eulerian formulations yet"},
+    {"fluid without density", "density = 1.0; ", "", NULL,
+     "%F:7: materials.water.density: missing required key"},
+    {"fluid density 0", "density = 1.0;", "density = 0.0;", NULL,
+     "%F:7: materials.water.density: must be > 0, got 0"},
+    {"weakly compressible fluid without sound_speed", "sound_speed = 10.0; ", "", NULL,
+     "%F:7: materials.water.sound_speed: missing required key"},
+    {"weakly compressible fluid with sound_speed 0", "sound_speed = 10.0;", "sound_speed = 0.0;",
+     NULL, "%F:7: materials.water.sound_speed: must be > 0, got 0"},
+    {"negative viscosity", "viscosity = 0.01;", "viscosity = -0.01;", NULL,
+     "%F:7: materials.water.viscosity: must be >= 0, got -0.01"},
+    {"poisson_ratio of a fluid", "viscosity = 0.01;", "viscosity = 0.01; poisson_ratio = 0.3;",
+     NULL,
+     "%F:7: materials.water.poisson_ratio: is for solid materials; material 'water' is a fluid "
+     "(it has no youngs_modulus), as formulation \"eulerian-wc\" needs"},
+    {"yield_stress of a fluid", "viscosity = 0.01;", "viscosity = 0.01; yield_stress = 1.0;", NULL,
+     "%F:7: materials.water.yield_stress: is for solid materials"},
+    {"gamma with eulerian-wc", "viscosity = 0.01;", "viscosity = 0.01; gamma = 1.4;", NULL,
+     "%F:7: materials.water.gamma: is the ideal gas's ratio of specific heats (formulation "
+     "\"eulerian-compressible\")"},
+    /* bodies */
+    {"initial_pressure with eulerian-wc", "shape = \"box\";",
+     "shape = \"box\"; initial_pressure = 1.0;", NULL,
+     "%F:13: bodies.f.initial_pressure: formulation \"eulerian-wc\" derives the pressure from the "
+     "density, p = c0^2 (rho - rho0)"},
+    {"initial_density 0", "shape = \"box\";", "shape = \"box\"; initial_density = 0;", NULL,
+     "%F:13: bodies.f.initial_density: an initial density must be > 0, got 0"},
+    {"initial_density < 0", "shape = \"box\";", "shape = \"box\"; initial_density = -1.5;", NULL,
+     "%F:13: bodies.f.initial_density: an initial density must be > 0, got -1.5"},
+    {"initial_density a boolean", "shape = \"box\";", "shape = \"box\"; initial_density = true;",
+     NULL,
+     "%F:13: bodies.f.initial_density: expected a number or an expression string of x, y and the "
+     "constants, got a boolean"},
+    {"initial_density: syntax error", "shape = \"box\";",
+     "shape = \"box\"; initial_density = \"1 +\";", NULL,
+     "%F:13: bodies.f.initial_density: the expression \"1 +\": "},
+    {"initial_density: unknown variable", "shape = \"box\";",
+     "shape = \"box\"; initial_density = \"1 + q\";", NULL,
+     "%F:13: bodies.f.initial_density: the expression \"1 + q\": unknown variable 'q'"},
+    {"constraints on a fluid body", "shape = \"box\";",
+     "shape = \"box\"; constraints = ( { type = \"fixed\"; region = \"box\"; } );", NULL,
+     "%F:13: bodies.f.constraints: constraints are not supported for the eulerian formulations "
+     "yet"},
+    /* walls, contact, output */
+    {"walls in a fluid scene", ");\nboundary",
+     ");\nwalls = ( { name = \"w\"; point = [0.0, 0.0]; normal = [0.0, 1.0]; } );\nboundary", NULL,
+     "%F:15: walls: walls are not supported for the eulerian formulations yet"},
+    {"contact in a fluid scene", ");\nboundary", ");\ncontact = { impedance = 1.0; };\nboundary",
+     NULL, "%F:15: contact: is for the solid formulations"},
+    {"displacement of a fluid", ");\nboundary",
+     ");\noutput = { fields = [\"velocity\", \"displacement\"]; };\nboundary", NULL,
+     "%F:15: output.fields.[1]: displacement is a field of the solid formulations; formulation "
+     "\"eulerian-wc\" keeps its particles fixed"},
+    {"von_mises of a fluid", ");\nboundary",
+     ");\noutput = { fields = [\"von_mises\"]; };\nboundary", NULL,
+     "%F:15: output.fields.[0]: von_mises is a field of the solid formulations"},
+    {"mach_number with eulerian-wc", ");\nboundary",
+     ");\noutput = { fields = [\"mach_number\"]; };\nboundary", NULL,
+     "%F:15: output.fields.[0]: mach_number is a field of formulation \"eulerian-compressible\""},
+    /* the periodic boundary */
+    {"period not a whole number of dp", "\"y\"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]",
+     "\"y\"]; lower = [0.0, 0.0]; upper = [1.05, 1.0]", NULL,
+     "%F:15: boundary.upper: the period along x, upper - lower = 1.05, must be a whole number of "
+     "particle spacings (dp = 0.1), got 10.5 dp"},
+    {"period shorter than two cut-offs", "\"y\"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]",
+     "\"y\"]; lower = [0.0, 0.0]; upper = [1.0, 0.5]", NULL,
+     "%F:15: boundary.upper: the period along y (0.5) is shorter than two cut-off radii (2 x 2.6 "
+     "dp = 0.52): a particle would meet a neighbour through two images"},
+    {"period upper <= lower", "\"y\"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]",
+     "\"y\"]; lower = [0.0, 0.0]; upper = [0.0, 1.0]", NULL,
+     "%F:15: boundary.upper: must exceed lower along the periodic axis x, got upper = 0, lower = "
+     "0"},
+    {"periodic axis z in 2D", "periodic = [\"x\", \"y\"]", "periodic = [\"z\"]", NULL,
+     "%F:15: boundary.periodic.[0]: expected \"x\" or \"y\", got z"},
+    {"periodic axis twice", "periodic = [\"x\", \"y\"]", "periodic = [\"x\", \"x\"]", NULL,
+     "%F:15: boundary.periodic.[1]: axis \"x\" named twice"},
+    {"periodic without lower", "\"y\"]; lower = [0.0, 0.0];", "\"y\"];", NULL,
+     "%F:15: boundary.lower: missing required key"},
+    {"boundary with an unknown key", "periodic = [", "periods = [", NULL,
+     "%F:15: boundary.periods: unknown key 'periods' (did you mean 'periodic'?)"},
+    {"periodic with a relaxed body", "shape = \"box\";",
+     "shape = \"box\"; placement = \"relaxed\";", NULL,
+     "%F:13: bodies.f.placement: a relaxed placement is not supported with a periodic boundary"},
+    /* the ideal gas (eulerian-compressible) */
+    {"gas with sound_speed", "formulation = \"eulerian-wc\";", GAS_FORMULATION, NULL,
+     "%F:7: materials.water.sound_speed: an ideal gas's sound speed follows from its state, "
+     "c = sqrt(gamma p / rho)"},
+};
+
+/* edits applied in order before a FLUID_GAS row's own (the compressible
+ * scene): formulation, material, body */
+static const char *const GAS_EDITS[3][2] = {
+    {"formulation = \"eulerian-wc\";", GAS_FORMULATION},
+    {"water = { density = 1.0; sound_speed = 10.0; viscosity = 0.01; };", GAS_MATERIAL},
+    {"shape = \"box\";", GAS_BODY},
+};
+
+static const bad_row GAS_BAD[] = {
+    {"gamma 0.9", "gamma = 1.4;", "gamma = 0.9;", NULL,
+     "%F:7: materials.water.gamma: an ideal gas has 1 < gamma <= 5/3 (5/3: monatomic, 7/5: "
+     "diatomic such as air), got 0.9"},
+    {"gamma 1", "gamma = 1.4;", "gamma = 1.0;", NULL,
+     "%F:7: materials.water.gamma: an ideal gas has 1 < gamma <= 5/3"},
+    {"gamma 2", "gamma = 1.4;", "gamma = 2.0;", NULL,
+     "%F:7: materials.water.gamma: an ideal gas has 1 < gamma <= 5/3 (5/3: monatomic, 7/5: "
+     "diatomic such as air), got 2"},
+    {"gamma a string", "gamma = 1.4;", "gamma = \"air\";", NULL,
+     "%F:7: materials.water.gamma: expected a number, got a string"},
+    {"gas with sound_speed", "gamma = 1.4;", "gamma = 1.4; sound_speed = 340.0;", NULL,
+     "%F:7: materials.water.sound_speed: an ideal gas's sound speed follows from its state"},
+    {"gas without initial_pressure", " initial_pressure = 71.43;", "", NULL,
+     "%F:13: bodies.f.initial_pressure: missing required key: the ideal gas of formulation "
+     "\"eulerian-compressible\" starts from a pressure"},
+    {"initial_pressure 0", "initial_pressure = 71.43;", "initial_pressure = 0.0;", NULL,
+     "%F:13: bodies.f.initial_pressure: an initial pressure must be > 0, got 0"},
+    {"initial_pressure: unknown variable", "initial_pressure = 71.43;",
+     "initial_pressure = \"p0 * x\";", NULL,
+     "%F:13: bodies.f.initial_pressure: the expression \"p0 * x\": unknown variable 'p0'"},
+    {"mach_number is fine, displacement is not", ");\nboundary",
+     ");\noutput = { fields = [\"mach_number\", \"displacement\"]; };\nboundary", NULL,
+     "%F:15: output.fields.[1]: displacement is a field of the solid formulations; formulation "
+     "\"eulerian-compressible\" keeps its particles fixed and has no stress deviator (fluid "
+     "fields: velocity, density, pressure, vorticity, body_id, particle_id, mach_number)"},
 };
 
 /* Replace the first `find` in `text` by `replace`. */
@@ -657,20 +876,22 @@ static void expand(const char *pattern, const char *file, char *out, size_t size
     out[len < size ? len : size - 1] = '\0';
 }
 
-static void test_bad_inputs(test_counts *c) {
+/* Every row of `rows`, an edit of `base`: SPH_ERR_INPUT with the expected
+ * text in a one-line message. */
+static void run_bad_rows(test_counts *c, const char *base, const bad_row *rows, size_t nrows) {
     char base_path[1024];
-    test_scene_write(&tmp, BASE, base_path, sizeof base_path);
+    test_scene_write(&tmp, base, base_path, sizeof base_path);
     sph_scene s;
     sph_error err = {0};
     sph_status st = sph_scene_load(&s, base_path, NULL, 0, &err);
     CHECK(c, st == SPH_OK, "the base scene must load: %s", err.msg);
     sph_scene_free(&s);
 
-    for (size_t i = 0; i < sizeof BAD / sizeof BAD[0]; i++) {
-        const bad_row *row = &BAD[i];
+    for (size_t i = 0; i < nrows; i++) {
+        const bad_row *row = &rows[i];
         char path[1024], text[4096], expect[2048];
         if (row->find) {
-            edit(BASE, row->find, row->replace, text, sizeof text);
+            edit(base, row->find, row->replace, text, sizeof text);
             test_scene_write(&tmp, text, path, sizeof path);
         } else {
             snprintf(path, sizeof path, "%s", base_path);
@@ -691,7 +912,22 @@ static void test_bad_inputs(test_counts *c) {
         CHECK(c, s.resolved_text == NULL, "%s: nothing to free after a failure", row->what);
         CHECK(c, strchr(err.msg, '\n') == NULL, "%s: one line", row->what);
     }
+}
 
+static void test_bad_inputs(test_counts *c) {
+    run_bad_rows(c, BASE, BAD, sizeof BAD / sizeof BAD[0]);
+    run_bad_rows(c, FLUID_BASE, FLUID_BAD, sizeof FLUID_BAD / sizeof FLUID_BAD[0]);
+    char gas[4096], step[4096];
+    snprintf(gas, sizeof gas, "%s", FLUID_BASE);
+    for (int k = 0; k < 3; ++k) {
+        edit(gas, GAS_EDITS[k][0], GAS_EDITS[k][1], step, sizeof step);
+        snprintf(gas, sizeof gas, "%s", step);
+    }
+    run_bad_rows(c, gas, GAS_BAD, sizeof GAS_BAD / sizeof GAS_BAD[0]);
+
+    sph_scene s;
+    sph_error err = {0};
+    sph_status st;
     /* a missing file */
     char missing[1024];
     snprintf(missing, sizeof missing, "%s/no-such.cfg", tmp.dir);
@@ -983,6 +1219,240 @@ static void test_expressions(test_counts *c) {
     sph_scene_free(&s);
 }
 
+/* FLUID_BASE with `nedits` (find, replace) pairs applied in order, written
+ * to a fresh scene file whose path goes to `path`. */
+static void write_fluid(const char *const (*edits)[2], int nedits, char *path, size_t size) {
+    char text[4096], step[4096];
+    snprintf(text, sizeof text, "%s", FLUID_BASE);
+    for (int k = 0; k < nedits; ++k) {
+        edit(text, edits[k][0], edits[k][1], step, sizeof step);
+        snprintf(text, sizeof text, "%s", step);
+    }
+    test_scene_write(&tmp, text, path, size);
+}
+
+/* The fluid scenes of the eulerian formulations (seed 004 §3.1): keys,
+ * defaults (limiter slope 15 and 1, CFL 0.6 / d, gamma 1.4, single
+ * stepping, the fluid output fields) and the initial particles (density
+ * and pressure fields, masses rho dp^d, the lattice anchored on the
+ * periodic boundary). */
+static void test_fluids(test_counts *c) {
+    char path[1024];
+    sph_scene s;
+    sph_error err = {0};
+    sph_particles p;
+
+    /* weakly compressible, everything defaulted */
+    write_fluid(NULL, 0, path, sizeof path);
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "WC scene: %s", err.msg);
+    if (st == SPH_OK) {
+        CHECK(c, s.formulation == SPH_FORMULATION_EULERIAN_WC && s.rotation == SPH_ROTATION_NONE,
+              "eulerian-wc, rotation none");
+        CHECK(c, strcmp(sph_formulation_name(s.formulation), "eulerian-wc") == 0, "name");
+        CHECK(c, s.riemann_limiter_slope == 15.0, "limiter default 15 (seed 004 eq. 22): %g",
+              s.riemann_limiter_slope);
+        CHECK(c, s.cfl_acoustic == 0.3, "cfl 0.6 / 2: %.17g", s.cfl_acoustic);
+        CHECK(c, s.stepping == SPH_STEPPING_SINGLE, "single stepping");
+        const sph_material *m = &s.materials[0];
+        CHECK(c, m->fluid && m->density == 1.0 && m->sound_speed == 10.0 && m->viscosity == 0.01,
+              "fluid material: rho0 %g c0 %g mu %g", m->density, m->sound_speed, m->viscosity);
+        CHECK(c, m->bulk_modulus == 100.0 && m->shear_modulus == 0.0 && !m->plastic,
+              "K = rho0 c0^2 = %g, G = %g", m->bulk_modulus, m->shear_modulus);
+        CHECK(c, s.bodies[0].initial_density[0] == '\0' && s.bodies[0].initial_pressure[0] == '\0',
+              "no initial fields");
+        CHECK(c, s.periodic_mask == 3, "periodic x and y: mask %d", s.periodic_mask);
+        CHECK(c,
+              s.periodic_lower[0] == 0.0 && s.periodic_lower[1] == 0.0 &&
+                  s.periodic_upper[0] == 1.0 && s.periodic_upper[1] == 1.0,
+              "period [0, 1)^2");
+        char where[1100];
+        snprintf(where, sizeof where, "%s:15: boundary", path);
+        CHECK(c, strcmp(s.periodic_where, where) == 0, "periodic_where '%s'", s.periodic_where);
+        const bool *f = s.output_field;
+        CHECK(c,
+              f[SPH_OUT_VELOCITY] && f[SPH_OUT_DENSITY] && f[SPH_OUT_PRESSURE] &&
+                  f[SPH_OUT_VORTICITY] && f[SPH_OUT_PARTICLE_ID] && !f[SPH_OUT_DISPLACEMENT] &&
+                  !f[SPH_OUT_VON_MISES] && !f[SPH_OUT_SHEAR_STRESS] && !f[SPH_OUT_BODY_ID] &&
+                  !f[SPH_OUT_PLASTIC_STRAIN] && !f[SPH_OUT_MACH_NUMBER],
+              "fluid output fields");
+        CHECK(c,
+              strcmp(sph_output_field_name(SPH_OUT_VORTICITY), "vorticity") == 0 &&
+                  strcmp(sph_output_field_name(SPH_OUT_MACH_NUMBER), "mach_number") == 0,
+              "field names");
+        /* the lattice anchored at boundary.lower fills the period: 10 x 10 */
+        st = sph_particles_generate(&s, &p, &err);
+        CHECK(c, st == SPH_OK, "WC particles: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c, p.n == 100 && p.pressure == NULL, "n %d, no pressure array", p.n);
+            bool ok = true;
+            for (int i = 0; i < p.n; ++i) ok &= p.rho[i] == 1.0 && fabs(p.mass[i] - 0.01) < 1e-17;
+            CHECK(c, ok, "rho = rho0, m = rho0 dp^2");
+            CHECK(c, fabs(p.pos[0] - 0.05) < 1e-15 && fabs(p.pos[p.n - 1] - 0.95) < 1e-15,
+                  "x from 0.05 to 0.95: %.17g %.17g", p.pos[0], p.pos[p.n - 1]);
+            sph_particles_free(&p);
+        }
+        sph_scene_free(&s);
+    }
+
+    /* an initial density field, an explicit limiter and CFL, a body
+     * smaller than the period (the lattice still starts at lower) */
+    {
+        const char *const e[][2] = {
+            {"formulation = \"eulerian-wc\";",
+             "formulation = \"eulerian-wc\"; riemann_limiter = 5.0;"},
+            {"end = 1.0;", "end = 1.0; cfl_acoustic = 0.25; reference_speed = 1.0;"},
+            {"shape = \"box\";", "shape = \"box\"; initial_density = \"1 + 0.1 * x * y\";"},
+            {"lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n};", "lower = [0.0, 0.0]; upper = [1.0, "
+                                                               "0.5]; };\n};"},
+            {"};\nbodies", "};\nconstants = { U = 1.0; };\nbodies"},
+        };
+        write_fluid(e, 5, path, sizeof path);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK, "WC scene with a density field: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c, s.riemann_limiter_slope == 5.0 && s.cfl_acoustic == 0.25, "given values");
+            CHECK(c, strcmp(s.bodies[0].initial_density, "1 + 0.1 * x * y") == 0, "text '%s'",
+                  s.bodies[0].initial_density);
+            CHECK(c, strstr(s.bodies[0].initial_density_where, ":14: bodies.f.initial_density"),
+                  "where '%s'", s.bodies[0].initial_density_where);
+            st = sph_particles_generate(&s, &p, &err);
+            CHECK(c, st == SPH_OK, "particles: %s", err.msg);
+            if (st == SPH_OK) {
+                bool ok = p.n == 50;
+                for (int i = 0; i < p.n; ++i) {
+                    const double x = p.pos[i], y = p.pos[p.n + i], rho = 1.0 + 0.1 * x * y;
+                    ok &= fabs(p.rho[i] - rho) < 1e-15 && fabs(p.mass[i] - rho * 0.01) < 1e-16;
+                }
+                CHECK(c, ok, "rho = 1 + 0.1 x y, m = rho dp^2 (n %d)", p.n);
+                sph_particles_free(&p);
+            }
+            sph_scene_free(&s);
+        }
+    }
+
+    /* the ideal gas: gamma default 1.4, limiter 1 (eq. 20), Mach number out,
+     * a pressure field; a number for the density */
+    {
+        const char *const e[][2] = {
+            {GAS_EDITS[0][0], GAS_EDITS[0][1]},
+            {GAS_EDITS[1][0], GAS_EDITS[1][1]},
+            {"shape = \"box\";", "shape = \"box\"; initial_density = 2;\n"
+                                 "    initial_pressure = \"71.43 * (1 + x)\";"},
+        };
+        write_fluid(e, 3, path, sizeof path);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK, "compressible scene: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c, s.formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE, "compressible");
+            CHECK(c, s.riemann_limiter_slope == 1.0, "limiter default 1 (seed 004 eq. 20): %g",
+                  s.riemann_limiter_slope);
+            CHECK(c, s.cfl_acoustic == 0.3 && s.stepping == SPH_STEPPING_SINGLE, "cfl %g",
+                  s.cfl_acoustic);
+            const sph_material *m = &s.materials[0];
+            CHECK(c, m->fluid && m->gamma == 1.4 && m->sound_speed == 0.0 && m->viscosity == 0.0,
+                  "gas: gamma %g c0 %g mu %g", m->gamma, m->sound_speed, m->viscosity);
+            CHECK(c, strcmp(s.bodies[0].initial_density, "2") == 0, "a number kept as text '%s'",
+                  s.bodies[0].initial_density);
+            CHECK(c, strcmp(s.bodies[0].initial_pressure, "71.43 * (1 + x)") == 0, "p text");
+            CHECK(c, strstr(s.bodies[0].initial_pressure_where, ":14: bodies.f.initial_pressure"),
+                  "where '%s'", s.bodies[0].initial_pressure_where);
+            CHECK(c, s.output_field[SPH_OUT_MACH_NUMBER] && s.output_field[SPH_OUT_VORTICITY],
+                  "mach_number by default");
+            st = sph_particles_generate(&s, &p, &err);
+            CHECK(c, st == SPH_OK, "gas particles: %s", err.msg);
+            if (st == SPH_OK) {
+                bool ok = p.n == 100 && p.pressure != NULL;
+                for (int i = 0; ok && i < p.n; ++i)
+                    ok &= p.rho[i] == 2.0 && fabs(p.mass[i] - 0.02) < 1e-17 &&
+                          fabs(p.pressure[i] - 71.43 * (1.0 + p.pos[i])) < 1e-12;
+                CHECK(c, ok, "rho 2, m = 2 dp^2, p = 71.43 (1 + x)");
+                sph_particles_free(&p);
+                CHECK(c, p.pressure == NULL, "freed");
+            }
+            sph_scene_free(&s);
+        }
+    }
+
+    /* gamma = 5/3 in the 15 digits a stored scene keeps; 3D: CFL 0.6 / 3 */
+    {
+        const char *const e[][2] = {
+            {"dimension = 2;", "dimension = 3;"},
+            {GAS_EDITS[0][0], GAS_EDITS[0][1]},
+            {"water = { density = 1.0; sound_speed = 10.0; viscosity = 0.01; };",
+             "water = { density = 1.0; gamma = 1.66666666666667; };"},
+            {"shape = \"box\";", "shape = \"box\"; initial_pressure = 1.0;"},
+            {"lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n};",
+             "lower = [0.0, 0.0, 0.0]; upper = [1.0, 1.0, 0.6]; };\n};"},
+            {"periodic = [\"x\", \"y\"]; lower = [0.0, 0.0]; upper = [1.0, 1.0];",
+             "periodic = [\"z\"]; lower = [0.0, 0.0, 0.0]; upper = [1.0, 1.0, 0.6];"},
+        };
+        write_fluid(e, 6, path, sizeof path);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK, "3D gas: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c, fabs(s.cfl_acoustic - 0.2) < 1e-15 && s.periodic_mask == 4,
+                  "cfl %.17g, mask %d", s.cfl_acoustic, s.periodic_mask);
+            CHECK(c, s.materials[0].gamma == 1.66666666666667, "gamma 5/3");
+            sph_scene_free(&s);
+        }
+    }
+
+    /* errors found when the particles are placed: SPH_ERR_INPUT naming the
+     * key (and its line) and the particle */
+    static const struct {
+        const char *what;
+        int nedits;
+        const char *edits[4][2];
+        const char *expect;
+    } rows[] = {
+        {"a negative density expression",
+         1,
+         {{"shape = \"box\";", "shape = \"box\"; initial_density = \"x - 0.5\";"}},
+         ":13: bodies.f.initial_density: the expression \"x - 0.5\" gives -0.45 at the particle "
+         "at (0.05, 0.05) of body 'f': initial densities must be finite and > 0"},
+        {"a density that is not a number",
+         1,
+         {{"shape = \"box\";", "shape = \"box\"; initial_density = \"sqrt(x - 2)\";"}},
+         ":13: bodies.f.initial_density: the expression \"sqrt(x - 2)\" gives nan at the "
+         "particle at (0.05, 0.05)"},
+        {"a negative pressure expression",
+         3,
+         {{GAS_EDITS[0][0], GAS_EDITS[0][1]},
+          {GAS_EDITS[1][0], GAS_EDITS[1][1]},
+          {"shape = \"box\";", "shape = \"box\"; initial_pressure = \"y < 0.5 ? 1 : -1\";"}},
+         ":13: bodies.f.initial_pressure: the expression \"y < 0.5 ? 1 : -1\" gives -1 at the "
+         "particle at (0.05, 0.55) of body 'f': initial pressures must be finite and > 0"},
+        {"a lattice origin off the periodic lattice",
+         1,
+         {{"};\nbodies", "};\nlattice_origin = [0.03, 0.0];\nbodies"}},
+         ":16: boundary: the lattice does not fit the periodic axis x: the particle at (0.08, "
+         "0.05) "
+         "of body 'f'"},
+        {"a body beyond the period",
+         1,
+         {{"upper = [1.0, 1.0]; };\n};", "upper = [1.0, 1.2]; };\n};"}},
+         ":15: boundary: the lattice does not fit the periodic axis y: the particle at (0.05, "
+         "1.05) "
+         "of body 'f'"},
+    };
+    for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k) {
+        write_fluid(rows[k].edits, rows[k].nedits, path, sizeof path);
+        memset(&err, 0, sizeof err);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK, "%s: the scene loads: %s", rows[k].what, err.msg);
+        if (st != SPH_OK) continue;
+        st = sph_particles_generate(&s, &p, &err);
+        if (getenv("SPH_TEST_VERBOSE")) printf("%-40s %s\n", rows[k].what, err.msg);
+        char expect[1400];
+        snprintf(expect, sizeof expect, "%s%s", path, rows[k].expect);
+        CHECK(c, st == SPH_ERR_INPUT && strstr(err.msg, expect) != NULL,
+              "%s: status %d\n  got      '%s'\n  expected '%s'", rows[k].what, st, err.msg, expect);
+        if (st == SPH_OK) sph_particles_free(&p);
+        sph_scene_free(&s);
+    }
+}
+
 int main(void) {
     test_counts c = {0, 0};
     if (test_scene_dir_open(&tmp, "test_scene") != 0) return 2;
@@ -997,6 +1467,7 @@ int main(void) {
     test_wide_integers(&c);
     test_names(&c);
     test_expressions(&c);
+    test_fluids(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_scene", &c);
 }

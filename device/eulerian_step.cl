@@ -1,0 +1,367 @@
+/* eulerian_step.cl — extended Eulerian SPH for fluids (004 §3.1, eqs. 9-22).
+ *
+ * The particles do not move: they are control volumes w_i (FIELD_VOL,
+ * dp^d) carrying the conserved variables mass m_i = rho_i w_i, momentum
+ * m_i v_i and, for the compressible formulation, the total energy E_i w_i
+ * (FIELD_ENERGY, per particle).  The solver rebuilds the configuration once,
+ * at the start (as for TLSPH): neighbour_build.cl stores the pairs within
+ * 2h (across periodic axes by the nearest image), e_ij, dW/dr w_j, 1/r_ij
+ * and B_i; eulerian_correct_pairs then overwrites each pair's gradient by
+ * the corrected one of eq. 18, grad'W_ij = (B_i + B_j)/2 grad W_ij, once
+ * (the public code's way: every later use, Riemann direction, fluxes and
+ * viscous term, sees the corrected gradient).
+ *
+ * Conservation law, eq. 14 (e_ij from j to i, dwv = dW_ij w_j after the
+ * correction; the pair sums are antisymmetric, sph_eulerian.h):
+ *   dm_i/dt      = -2 w_i sum_j (rho* v*) . e_ij dwv
+ *   d(m v)_i/dt  = -2 w_i sum_j (rho* v* (v* . e_ij) + p* e_ij) dwv + f_i^visc
+ *   d(E w)_i/dt  = -2 w_i sum_j (E* + p*) (v* . e_ij) dwv + viscous work
+ * Viscous force, eq. 13 as the public code discretises it:
+ *   f_i^visc = 2 mu w_i sum_j (v_i - v_j) / (r_ij + 0.01 h) dwv.
+ * Its work enters the energy pairwise, sum_j f_ij . (v_i + v_j)/2 with f_ij
+ * the pair's viscous force, so that the total energy is conserved (the
+ * public code adds f_i . v_i, which it flags "not conservative"; the kinetic
+ * energy the viscous term removes becomes internal energy here).
+ *
+ * One step of size dt (the public code's two stages, reference §3):
+ *   1. eulerian_momentum_rate: F_i = d(m v)_i/dt from the state n;
+ *   2. eulerian_mass_energy_rate: dm_i/dt and d(E w)_i/dt from (rho^n,
+ *      v', p^n, E^n), where v' = (m v)^{n+1} / m^n = v^n + dt F / m^n is
+ *      formed from the neighbours' F on the fly, and the vorticity of v'
+ *      for the snapshots;
+ *   3. eulerian_update: m, (m v)^{n+1} and v = (m v) / m, rho = m / w, E w,
+ *      and p by the EOS.
+ * Each pass reads only what the passes before wrote: race-free without
+ * atomics, the same sums in the same order on every backend.
+ */
+#ifndef EULERIAN_STEP_CL
+#define EULERIAN_STEP_CL
+#include "sph_vec.h"
+#include "sph_eulerian.h"
+
+#if SPH_HAS_EULERIAN
+
+#    if SPH_HAS_COMPRESSIBLE
+#        define ENERGY_PARAM , GLOBAL const real *restrict energy
+#        define ENERGY_RATE_PARAMS                                                                 \
+            , GLOBAL const real *restrict energy, GLOBAL real *restrict energy_rate
+#        define ENERGY_UPDATE_PARAMS                                                               \
+            , GLOBAL real *restrict energy, GLOBAL const real *restrict energy_rate
+#        define ENERGY_PER_VOLUME(k) (energy[k] / vol[k])
+#    else
+#        define ENERGY_PARAM
+#        define ENERGY_RATE_PARAMS
+#        define ENERGY_UPDATE_PARAMS
+#        define ENERGY_PER_VOLUME(k) R(0)
+#    endif
+
+/* Fixed-state particles (constraints of type "fixed" on a fluid body): a
+ * Dirichlet buffer whose state never changes, e.g. the supersonic inflow
+ * and the undisturbed gas at the ends of the Shu-Osher tube.  Their F is
+ * zero (so the v^{n+1} their neighbours form is v^n) and the update leaves
+ * them alone. */
+#    if SPH_HAS_CLAMP
+#        define FIXED_PARAM , GLOBAL const u8 *restrict fixed
+#        define IS_FIXED(k) (PRESENT(fixed) && fixed[k] != 0)
+#    else
+#        define FIXED_PARAM
+#        define IS_FIXED(k) 0
+#    endif
+
+/* The side of particle k of pair (i, j) along e_ij. */
+FN fluid_side fluid_side_make(const real rho, const real p, const vec v, const real energy,
+                              const vec e_ij) {
+    fluid_side s;
+    s.rho = rho;
+    s.p = p;
+    s.v = v;
+    s.u = -vec_dot(e_ij, v);
+    s.energy = energy;
+    return s;
+}
+
+/* The pair's interface state by the formulation's Riemann solver. */
+FN fluid_state fluid_interface(CONSTANT sph_params *prm, const fluid_side l, const fluid_side r,
+                               const vec e_ij) {
+#    if SPH_HAS_COMPRESSIBLE
+    return riemann_hllc(l, r, e_ij, prm->materials[0].gamma, prm->riemann_limit);
+#    else
+    return riemann_linearised(l, r, e_ij, prm->materials[0].rho0, prm->materials[0].c0,
+                              prm->riemann_limit);
+#    endif
+}
+
+/* The velocity of the second stage, (m v)^{n+1} / m^n = v^n + dt F / m^n
+ * (the public code's v^{n+1} = mv / m^n), formed for i and its neighbours
+ * alike. */
+FN vec velocity_after(GLOBAL const real *vel, GLOBAL const real *force, GLOBAL const real *mass,
+                      const int n, const int k, const real dt) {
+    return vec_axpy(vec_load(vel, n, k), dt / mass[k], vec_load(force, n, k));
+}
+
+/* The viscous denominator r_ij + 0.01 h of eq. 13 as the public code has it
+ * (the 0.01 h keeps it finite for the closest pairs). */
+FN real viscous_distance(const real inv_r, const real h) {
+    return R(1) / inv_r + R(0.01) * h;
+}
+
+/* Once, before the first step: the pressure of the WC state by the EOS, or
+ * the total energy of the compressible state from its pressure (both
+ * particle-local). */
+KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
+                             GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel,
+                             GLOBAL const real *restrict vol,
+                             GLOBAL real *restrict pressure ENERGY_UPDATE_PARAMS) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+#    if SPH_HAS_COMPRESSIBLE
+    (void)energy_rate;
+    const vec v = vec_load(vel, n, i);
+    const real r = (real)rho[i];
+    energy[i] =
+        vol[i] * (pressure[i] / (prm->materials[0].gamma - R(1)) + R(0.5) * r * vec_dot(v, v));
+#    else
+    (void)vel;
+    (void)vol;
+    pressure[i] =
+        eos_weakly_compressible((real)rho[i], prm->materials[0].rho0, prm->materials[0].c0);
+#    endif
+}
+
+/* Once, after the rebuild: each stored pair gradient dwv e_ij becomes
+ * (B_i + B_j)/2 dwv e_ij (eq. 18): e <- g/|g|, dwv <- dwv |g| with
+ * g = (B_i + B_j)/2 e, and r <- r (e_old . e_new) as the public code keeps
+ * it for the viscous term (floored at 0.1 r: a pair whose corrected
+ * direction turned by more than 84 degrees would otherwise get a viscous
+ * denominator near zero).  g_ji = -g_ij exactly, so the pair terms stay
+ * antisymmetric. */
+KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap,
+                                   GLOBAL const int *restrict nbr_count,
+                                   GLOBAL const int *restrict nbr_j,
+                                   GLOBAL const real *restrict bmat, GLOBAL real *restrict pair_e,
+                                   GLOBAL real *restrict pair_dwv,
+                                   GLOBAL real *restrict pair_inv_r) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int stride = n * cap;
+    const mat b_i = sym_load(bmat, n, i);
+    const int count = nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        vec e;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
+        const mat b = mat_scale(mat_add(b_i, sym_load(bmat, n, j)), R(0.5));
+        const vec g = mat_vec(b, e);
+        const real norm = sqrt(vec_dot(g, g));
+        if (!(norm > R(0))) continue;
+        const vec e_new = vec_scale(g, R(1) / norm);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e_new.c[a];
+        pair_dwv[slot] *= norm;
+        pair_inv_r[slot] /= fmax(vec_dot(e, e_new), R(0.1));
+    }
+}
+
+/* Stage 1: F_i = d(m v)_i/dt, the Riemann momentum flux and the viscous
+ * force, from the state n. */
+KERNEL void
+eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
+                       CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
+                       GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
+                       GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
+                       GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel,
+                       GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
+                       GLOBAL real *restrict force ENERGY_PARAM FIXED_PARAM) {
+    STEP_DT_BEGIN;
+    (void)dt;
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    if (IS_FIXED(i)) {
+        vec_store(force, n, i, vec_zero());
+        return;
+    }
+    const int stride = n * cap;
+    const real h = prm->h, mu = prm->materials[0].viscosity;
+    const vec v_i = vec_load(vel, n, i);
+    const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
+    vec flux = vec_zero(), visc = vec_zero();
+    const int count = nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        vec e;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
+        const real dwv = pair_dwv[slot];
+        const vec v_j = vec_load(vel, n, j);
+        const fluid_state s = fluid_interface(
+            prm, fluid_side_make(rho_i, p_i, v_i, energy_i, e),
+            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), e), e);
+        const vec pair = vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e);
+        flux = vec_axpy(flux, dwv, pair);
+        visc = vec_axpy(visc, dwv / viscous_distance(pair_inv_r[slot], h), vec_sub(v_i, v_j));
+    }
+    const real w_i = vol[i];
+    vec_store(force, n, i, vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc));
+}
+
+/* Stage 2: dm_i/dt and d(E w)_i/dt from (rho^n, v^{n+1}, p^n, E^n), and
+ * the vorticity of v^{n+1} (curl v = sum_j (v_j - v_i) x grad'W_ij w_j: 2D
+ * its z component, 3D all three). */
+KERNEL void
+eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
+                          CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
+                          GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
+                          GLOBAL const real *restrict pair_dwv,
+                          GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+                          GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
+                          GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
+                          GLOBAL const real *restrict force, GLOBAL real *restrict mass_rate,
+                          GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS) {
+    STEP_DT_BEGIN;
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int stride = n * cap;
+    const real h = prm->h;
+    const vec v_i = velocity_after(vel, force, mass, n, i, dt);
+    const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
+    real mass_flux = R(0);
+#    if SPH_HAS_COMPRESSIBLE
+    real energy_flux = R(0), heat = R(0);
+#    else
+    (void)h;
+    (void)pair_inv_r;
+#    endif
+    real curl[NSPIN];
+    UNROLL for (int a = 0; a < NSPIN; ++a) curl[a] = R(0);
+    const int count = nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        vec e;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
+        const real dwv = pair_dwv[slot];
+        const vec v_j = velocity_after(vel, force, mass, n, j, dt);
+        const fluid_state s = fluid_interface(
+            prm, fluid_side_make(rho_i, p_i, v_i, energy_i, e),
+            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), e), e);
+        const real vn = vec_dot(s.v, e);
+        mass_flux += s.rho * vn * dwv;
+        const vec dv = vec_sub(v_j, v_i);
+        const vec g = vec_scale(e, dwv);
+#    if SPH_DIM == 2
+        curl[0] += dv.c[1] * g.c[0] - dv.c[0] * g.c[1];
+#    else
+        curl[0] += dv.c[2] * g.c[1] - dv.c[1] * g.c[2];
+        curl[1] += dv.c[0] * g.c[2] - dv.c[2] * g.c[0];
+        curl[2] += dv.c[1] * g.c[0] - dv.c[0] * g.c[1];
+#    endif
+#    if SPH_HAS_COMPRESSIBLE
+        energy_flux += (s.energy + s.p) * vn * dwv;
+        /* the pair's viscous force on i dotted with the pair's mean velocity:
+         * antisymmetric viscous force, symmetric mean, so the viscous work
+         * cancels in the sum over all particles */
+        const vec f_pair = vec_scale(dv, -dwv / viscous_distance(pair_inv_r[slot], h));
+        heat += vec_dot(f_pair, vec_scale(vec_add(v_i, v_j), R(0.5)));
+#    endif
+    }
+    const real w_i = vol[i];
+    mass_rate[i] = R(-2) * w_i * mass_flux;
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl[a];
+#    if SPH_HAS_COMPRESSIBLE
+    energy_rate[i] = R(-2) * w_i * energy_flux + R(2) * prm->materials[0].viscosity * w_i * heat;
+#    endif
+}
+
+/* Stage 3, per particle: the conserved variables and the pressure. */
+KERNEL void
+eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
+                GLOBAL real *restrict vel, GLOBAL real *restrict mass, GLOBAL hreal *restrict rho,
+                GLOBAL const real *restrict vol, GLOBAL real *restrict pressure,
+                GLOBAL const real *restrict force,
+                GLOBAL const real *restrict mass_rate ENERGY_UPDATE_PARAMS FIXED_PARAM) {
+    STEP_DT_BEGIN;
+    const int i = ITEM_ID;
+    if (i >= n || IS_FIXED(i)) return;
+    /* the conserved momentum: (m v)^{n+1} = m^n v^n + dt F, then
+     * v^{n+1} = (m v)^{n+1} / m^{n+1} (the public code carries m v itself;
+     * keeping v^{n+1} = v^n + dt F / m^n with the new mass would create
+     * momentum dt (dm/dt) v every step, and a shock tube's waves would run
+     * at the wrong speeds) */
+    const real m_old = mass[i];
+    const real m = m_old + dt * mass_rate[i];
+    const vec v = vec_scale(
+        vec_axpy(vec_scale(vec_load(vel, n, i), m_old), dt, vec_load(force, n, i)), R(1) / m);
+    vec_store(vel, n, i, v);
+    mass[i] = m;
+    const real r = m / vol[i];
+    rho[i] = (hreal)r;
+#    if SPH_HAS_COMPRESSIBLE
+    const real e = energy[i] + dt * energy_rate[i];
+    energy[i] = e;
+    pressure[i] = eos_ideal_gas(e / vol[i], r, v, prm->materials[0].gamma);
+#    else
+    pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
+#    endif
+}
+
+/* The step clock's speed (sph_step_clock.h: dt = CFL h / (C0 + sqrt of
+ * this)): WC |v|^2 with C0 = c0; compressible (c + |v|)^2 with C0 = 0, the
+ * sound speed being the particle's own.  A non-finite state, a density
+ * <= 0 or (compressible) a pressure <= 0 gives +inf: the host stops the run
+ * and names the particle (host/instability.c). */
+FN real eulerian_signal_speed2(CONSTANT sph_params *prm, const real rho, const real p,
+                               const vec v) {
+    const real v2 = vec_dot(v, v);
+#    if SPH_HAS_COMPRESSIBLE
+    if (!(rho > R(0)) || !(p > R(0))) return INFINITY;
+    const real s = ideal_gas_sound_speed(p, rho, prm->materials[0].gamma) + sqrt(v2);
+    return isfinite(s) ? s * s : INFINITY;
+#    else
+    (void)prm;
+    (void)p;
+    if (!(rho > R(0))) return INFINITY;
+    return isfinite(v2) ? v2 : INFINITY;
+#    endif
+}
+
+/* Diagnostics, all by sum: kinetic energy, internal energy (the "strain"
+ * slot: compressible E w - m |v|^2/2; WC the acoustic potential energy
+ * w p^2 / (2 rho0 c0^2)), momentum (d), angular momentum (1 or 3), mass,
+ * total energy. */
+FN void eulerian_diagnostics_contrib(const int i, const int n, CONSTANT sph_params *prm,
+                                     GLOBAL const hreal *pos, GLOBAL const real *vel,
+                                     GLOBAL const real *mass, GLOBAL const real *vol,
+                                     GLOBAL const real *pressure, GLOBAL const real *energy,
+                                     real *c) {
+    const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
+    const real m = mass[i];
+    const real kinetic = R(0.5) * m * vec_dot(v, v);
+#    if SPH_HAS_COMPRESSIBLE
+    (void)prm;
+    (void)vol;
+    (void)pressure;
+    const real total = energy[i];
+    const real internal = total - kinetic;
+#    else
+    (void)energy;
+    const real c0 = prm->materials[0].c0;
+    const real internal =
+        vol[i] * pressure[i] * pressure[i] / (R(2) * prm->materials[0].rho0 * c0 * c0);
+    const real total = kinetic + internal;
+#    endif
+    c[0] = kinetic;
+    c[1] = internal;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) c[2 + a] = m * v.c[a];
+#    if SPH_DIM == 2
+    c[2 + SPH_DIM] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
+#    else
+    c[2 + SPH_DIM + 0] = m * (x.c[1] * v.c[2] - x.c[2] * v.c[1]);
+    c[2 + SPH_DIM + 1] = m * (x.c[2] * v.c[0] - x.c[0] * v.c[2]);
+    c[2 + SPH_DIM + 2] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
+#    endif
+    c[2 + SPH_DIM + NSPIN] = m;
+    c[3 + SPH_DIM + NSPIN] = total;
+}
+
+#endif
+#endif

@@ -1,0 +1,124 @@
+/* sph_eulerian.h — the interface state of a particle pair in extended
+ * Eulerian SPH (004 §3.1): the equations of state and the two Riemann
+ * solvers with their dissipation limiters.
+ *
+ * Conventions (as the public reference code, eulerian-sph-reference.md §1):
+ * e_ij points from j to i; the left state is particle i, the right state j,
+ * and the normal velocities are u_l = -e_ij . v_i, u_r = -e_ij . v_j, so
+ * u_l - u_r > 0 when the pair approaches.  The interface state (rho*, v*,
+ * p*, E*) enters the fluxes of eq. 14 (eulerian_step.cl).
+ *
+ * Every function gives the same state when called from j's side (e_ij and
+ * u flipped, left and right swapped) bit for bit: sums of two terms are
+ * commutative, and the negations and swaps are exact in IEEE arithmetic
+ * (with contraction off, sph_prelude.h / -ffp-contract=off).  The pair
+ * fluxes are therefore exactly antisymmetric and the sums of mass, momentum
+ * and energy change only by the rounding of their accumulation.
+ */
+#ifndef SPH_EULERIAN_H
+#define SPH_EULERIAN_H
+#include "sph_vec.h"
+
+/* One side of a pair. */
+typedef struct {
+    real rho, p, u; /* density, pressure, normal velocity -e_ij . v */
+    vec v;
+    real energy; /* total energy per unit volume (compressible), else 0 */
+} fluid_side;
+
+typedef struct {
+    real rho, p;
+    vec v;
+    real energy; /* total energy per unit volume (compressible) */
+} fluid_state;
+
+/* Weakly compressible EOS (004 eq. 11): p = c0^2 (rho - rho0). */
+FN real eos_weakly_compressible(const real rho, const real rho0, const real c0) {
+    return c0 * c0 * (rho - rho0);
+}
+/* Ideal gas (004 eq. 11): p = (gamma - 1) (E - rho |v|^2 / 2), E per volume. */
+FN real eos_ideal_gas(const real energy, const real rho, const vec v, const real gamma) {
+    return (gamma - R(1)) * (energy - R(0.5) * rho * vec_dot(v, v));
+}
+FN real ideal_gas_sound_speed(const real p, const real rho, const real gamma) {
+    return sqrt(gamma * p / rho);
+}
+
+/* The dissipation limiter of eqs. 19-22: beta = min(eta max(u_l - u_r, 0) / c, 1);
+ * eta <= 0 leaves the solver unlimited (beta = 1). */
+FN real eulerian_limiter(const real du, const real c, const real eta) {
+    if (eta <= R(0)) return R(1);
+    return fmin(eta * fmax(du, R(0)) / c, R(1));
+}
+
+/* Linearised (acoustic) solver with the limiter, eqs. 17, 21-22, as the
+ * public code's current AcousticRiemannSolver: impedance Z = rho0 c0,
+ * arithmetic means of the two sides,
+ *   p* = pbar + Z (u_l - u_r) beta / 2,
+ *   v* = vbar - e_ij (p_i - p_j) beta^2 / (2 Z)   (u* = ubar + (p_l - p_r) beta^2 / (2 Z)),
+ *   rho* = rhobar. */
+FN fluid_state riemann_linearised(const fluid_side l, const fluid_side r, const vec e_ij,
+                                  const real rho0, const real c0, const real eta) {
+    const real z = rho0 * c0;
+    const real du = l.u - r.u;
+    const real beta = eulerian_limiter(du, c0, eta);
+    fluid_state s;
+    s.rho = R(0.5) * (l.rho + r.rho);
+    s.p = R(0.5) * (l.p + r.p) + R(0.5) * z * du * beta;
+    s.v = vec_axpy(vec_scale(vec_add(l.v, r.v), R(0.5)), -R(0.5) * (l.p - r.p) * beta * beta / z,
+                   e_ij);
+    s.energy = R(0);
+    return s;
+}
+
+/* HLLC with the dissipation limiter, eqs. 15-16 and 19-20, in the physical
+ * form (eulerian-sph-reference.md §2; documented in docs/fluids.md):
+ *  - wave speeds S_l = u_l - c_l, S_r = u_r + c_r (eq. 15);
+ *  - beta from (u_l - u_r) / cbar, cbar = (rho_l c_l + rho_r c_r)/(rho_l + rho_r);
+ *  - S* = [rho_l (S_l - u_l) u_l - rho_r (S_r - u_r) u_r + (p_r - p_l) beta^2]
+ *         / [rho_l (S_l - u_l) - rho_r (S_r - u_r)]   (eq. 19; beta = 1: eq. 15);
+ *  - p* = (p_l + p_r)/2 + beta [rho_r c_r (S* - u_r) + rho_l c_l (u_l - S*)] / 2:
+ *    eq. 19 prints "-" before the left term; compression (u_l > S* > u_r)
+ *    must raise p*, so both terms add (the public code has "+");
+ *  - star states rho*_K = rho_K (S_K - u_K)/(S_K - S*), v*_K = v_K - e_ij (S* - u_K)
+ *    (the upwind tangential velocity, not eq. 16's printed mean of the two
+ *    sides, which would carry the downwind side's tangential momentum
+ *    across a contact), E*_K = [(S_K - u_K) E_K - p_K u_K + p* S*]/(S_K - S*);
+ *  - the side by the signs of S_l, S*, S_r (left state, left star, right
+ *    star, right state); outside the star region the side's own pressure.
+ * A degenerate denominator (two vacuum-like sides) falls back to the mean
+ * normal velocity, as the public code does below 1e-14. */
+FN fluid_state riemann_hllc(const fluid_side l, const fluid_side r, const vec e_ij,
+                            const real gamma, const real eta) {
+    const real c_l = ideal_gas_sound_speed(l.p, l.rho, gamma);
+    const real c_r = ideal_gas_sound_speed(r.p, r.rho, gamma);
+    const real s_l = l.u - c_l, s_r = r.u + c_r;
+    const real cbar = (l.rho * c_l + r.rho * c_r) / (l.rho + r.rho);
+    const real beta = eulerian_limiter(l.u - r.u, cbar, eta);
+    const real ml = l.rho * (s_l - l.u), mr = r.rho * (s_r - r.u);
+    const real den = ml - mr;
+    const real s_star = fabs(den) > R(1e-14)
+                            ? (ml * l.u - mr * r.u + (r.p - l.p) * beta * beta) / den
+                            : R(0.5) * (l.u + r.u);
+    const real p_star =
+        R(0.5) * (l.p + r.p) +
+        R(0.5) * beta * (r.rho * c_r * (s_star - r.u) + l.rho * c_l * (l.u - s_star));
+    fluid_state s;
+    if (R(0) < s_l) {
+        s.rho = l.rho, s.v = l.v, s.p = l.p, s.energy = l.energy;
+    } else if (R(0) >= s_r) {
+        s.rho = r.rho, s.v = r.v, s.p = r.p, s.energy = r.energy;
+    } else {
+        /* the star state of the side the interface lies in */
+        const fluid_side k = R(0) < s_star ? l : r;
+        const real s_k = R(0) < s_star ? s_l : s_r;
+        const real inv = R(1) / (s_k - s_star);
+        s.rho = k.rho * (s_k - k.u) * inv;
+        s.v = vec_axpy(k.v, -(s_star - k.u), e_ij);
+        s.energy = ((s_k - k.u) * k.energy - k.p * k.u + p_star * s_star) * inv;
+        s.p = p_star;
+    }
+    return s;
+}
+
+#endif
