@@ -68,6 +68,24 @@
 #        define IS_FIXED(k) 0
 #    endif
 
+/* Walls and the far field (SPH_FLUID_KINDS): each particle's kind
+ * (SPH_PARTICLE_*, sph_constants.h) and normal (a wall particle's into the
+ * fluid, a far-field particle's outward one). */
+#    if SPH_FLUID_KINDS
+#        define KIND_PARAMS , GLOBAL const u8 *restrict kind, GLOBAL const real *restrict normal
+#        define KIND_OF(k)  (PRESENT(kind) ? (int)kind[k] : SPH_PARTICLE_FLUID)
+#    else
+#        define KIND_PARAMS
+#        define KIND_OF(k) SPH_PARTICLE_FLUID
+#    endif
+/* the wall pairs' share of each fluid particle's F (pressure part, then
+ * viscous part): minus their sum is the force on the walls */
+#    if SPH_FLUID_WALLS
+#        define WALL_FORCE_PARAM , GLOBAL real *restrict wall_force
+#    else
+#        define WALL_FORCE_PARAM
+#    endif
+
 /* The side of particle k of pair (i, j) along e_ij. */
 FN fluid_side fluid_side_make(const real rho, const real p, const vec v, const real energy,
                               const vec e_ij) {
@@ -164,34 +182,50 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap,
 
 /* Stage 1: F_i = d(m v)_i/dt, the Riemann momentum flux and the viscous
  * force, from the state n. */
-KERNEL void
-eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
-                       CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
-                       GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
-                       GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
-                       GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel,
-                       GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
-                       GLOBAL real *restrict force ENERGY_PARAM FIXED_PARAM) {
+KERNEL void eulerian_momentum_rate(
+    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
+    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+    GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
+    GLOBAL const real *restrict pressure,
+    GLOBAL real *restrict force ENERGY_PARAM FIXED_PARAM KIND_PARAMS WALL_FORCE_PARAM) {
     STEP_DT_BEGIN;
     (void)dt;
     const int i = ITEM_ID;
     if (i >= n) return;
-    if (IS_FIXED(i)) {
-        vec_store(force, n, i, vec_zero());
-        return;
-    }
     const int stride = n * cap;
     const real h = prm->h, mu = prm->materials[0].viscosity;
     const vec v_i = vec_load(vel, n, i);
     const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
     vec flux = vec_zero(), visc = vec_zero();
-    const int count = nbr_count[i];
+    /* wall pairs: their pressure flux and velocity sums */
+    vec wall_flux = vec_zero(), wall_visc = vec_zero();
+    /* fixed-state and wall particles do not evolve: F = 0 */
+    const int count = IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
     for (int k = 0; k < count; ++k) {
         const int slot = NBR_AT(i, k);
         const int j = nbr_j[slot];
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
         const real dwv = pair_dwv[slot];
+#    if SPH_FLUID_KINDS
+        if (KIND_OF(j) == SPH_PARTICLE_WALL) {
+            /* the wall (at rest): the Riemann problem along the wall
+             * particle's normal n_j against the mirrored state (rho_i, p_i,
+             * -v_i), the flux along the pair's corrected gradient; the
+             * no-slip viscous term with 4 mu (eulerian-sph-reference.md §1,
+             * §4) */
+            const vec n_j = vec_load(normal, n, j);
+            const fluid_state s = fluid_interface(
+                prm, fluid_side_make(rho_i, p_i, v_i, energy_i, n_j),
+                fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, n_j), n_j);
+            wall_flux =
+                vec_axpy(wall_flux, dwv, vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e));
+            wall_visc = vec_axpy(wall_visc, dwv / viscous_distance(pair_inv_r[slot], h), v_i);
+            continue;
+        }
+#    endif
         const vec v_j = vec_load(vel, n, j);
         const fluid_state s = fluid_interface(
             prm, fluid_side_make(rho_i, p_i, v_i, energy_i, e),
@@ -201,7 +235,24 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         visc = vec_axpy(visc, dwv / viscous_distance(pair_inv_r[slot], h), vec_sub(v_i, v_j));
     }
     const real w_i = vol[i];
+#    if SPH_FLUID_WALLS
+    /* the wall pairs' share of F_i: pressure part, viscous part */
+    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
+    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
+    if (PRESENT(wall_force)) {
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            wall_force[a * n + i] = wall_p.c[a];
+            wall_force[(SPH_DIM + a) * n + i] = wall_v.c[a];
+        }
+    }
+    vec_store(force, n, i,
+              vec_add(vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc),
+                      vec_add(wall_p, wall_v)));
+#    else
+    (void)wall_flux;
+    (void)wall_visc;
     vec_store(force, n, i, vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc));
+#    endif
 }
 
 /* Stage 2: dm_i/dt and d(E w)_i/dt from (rho^n, v^{n+1}, p^n, E^n), and
@@ -216,7 +267,7 @@ eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                           GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                           GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
                           GLOBAL const real *restrict force, GLOBAL real *restrict mass_rate,
-                          GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS) {
+                          GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS KIND_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
@@ -233,13 +284,32 @@ eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
 #    endif
     real curl[NSPIN];
     UNROLL for (int a = 0; a < NSPIN; ++a) curl[a] = R(0);
-    const int count = nbr_count[i];
+#    if SPH_FLUID_KINDS
+    (void)normal;
+#    endif
+    /* a wall particle's rates are never used (the update leaves it alone) */
+    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
     for (int k = 0; k < count; ++k) {
         const int slot = NBR_AT(i, k);
         const int j = nbr_j[slot];
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
         const real dwv = pair_dwv[slot];
+#    if SPH_FLUID_KINDS
+        if (KIND_OF(j) == SPH_PARTICLE_WALL) {
+            /* no mass crosses the wall (against the mirrored state the
+             * linearised solver's v* is 0); the vorticity sees it at rest */
+            const vec g = vec_scale(e, dwv);
+#        if SPH_DIM == 2
+            curl[0] += -v_i.c[1] * g.c[0] + v_i.c[0] * g.c[1];
+#        else
+            curl[0] += -v_i.c[2] * g.c[1] + v_i.c[1] * g.c[2];
+            curl[1] += -v_i.c[0] * g.c[2] + v_i.c[2] * g.c[0];
+            curl[2] += -v_i.c[1] * g.c[0] + v_i.c[0] * g.c[1];
+#        endif
+            continue;
+        }
+#    endif
         const vec v_j = velocity_after(vel, force, mass, n, j, dt);
         const fluid_state s = fluid_interface(
             prm, fluid_side_make(rho_i, p_i, v_i, energy_i, e),
@@ -273,15 +343,17 @@ eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
 }
 
 /* Stage 3, per particle: the conserved variables and the pressure. */
-KERNEL void
-eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
-                GLOBAL real *restrict vel, GLOBAL real *restrict mass, GLOBAL hreal *restrict rho,
-                GLOBAL const real *restrict vol, GLOBAL real *restrict pressure,
-                GLOBAL const real *restrict force,
-                GLOBAL const real *restrict mass_rate ENERGY_UPDATE_PARAMS FIXED_PARAM) {
+KERNEL void eulerian_update(
+    ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm, GLOBAL real *restrict vel,
+    GLOBAL real *restrict mass, GLOBAL hreal *restrict rho, GLOBAL const real *restrict vol,
+    GLOBAL real *restrict pressure, GLOBAL const real *restrict force,
+    GLOBAL const real *restrict mass_rate ENERGY_UPDATE_PARAMS FIXED_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
-    if (i >= n || IS_FIXED(i)) return;
+    if (i >= n || IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL) return;
+#    if SPH_FLUID_KINDS
+    (void)normal;
+#    endif
     /* the conserved momentum: (m v)^{n+1} = m^n v^n + dt F, then
      * v^{n+1} = (m v)^{n+1} / m^{n+1} (the public code carries m v itself;
      * keeping v^{n+1} = v^n + dt F / m^n with the new mass would create
@@ -303,6 +375,57 @@ eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
 #    endif
 }
+
+#    if SPH_FAR_FIELD
+/* The far field (the public code's NonReflectiveBoundaryCorrection,
+ * eulerian-sph-reference.md §4), at the start and after every step: each
+ * far-field particle (within 2h of a far-field face) is blended toward the
+ * free stream (rho_inf, U_inf) by the kernel weight S = sum_j W_ij w_j of
+ * its interior fluid neighbours j:
+ *   rho = S rhobar + (1 - S) rho_inf,   v_n = S vbar_n + (1 - S) U_inf . n,
+ * with plain means rhobar, vbar over those neighbours; the tangential
+ * velocity is the free stream's on inflow faces and the neighbours' mean on
+ * outflow faces; p by the EOS, m = rho w.  It reads interior particles only
+ * and writes far-field ones only: race-free. */
+KERNEL void eulerian_far_field(ITEM_PARAM const int n, const int cap, CONSTANT sph_params *prm,
+                               GLOBAL const int *restrict nbr_count,
+                               GLOBAL const int *restrict nbr_j, GLOBAL const hreal *restrict pos,
+                               GLOBAL hreal *restrict rho, GLOBAL real *restrict vel,
+                               GLOBAL real *restrict mass, GLOBAL const real *restrict vol,
+                               GLOBAL real *restrict pressure KIND_PARAMS) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int kind_i = KIND_OF(i);
+    if (kind_i != SPH_PARTICLE_INFLOW && kind_i != SPH_PARTICLE_OUTFLOW) return;
+    real weight = R(0), rho_sum = R(0);
+    vec v_sum = vec_zero();
+    int count = 0;
+    for (int k = 0; k < nbr_count[i]; ++k) {
+        const int j = nbr_j[NBR_AT(i, k)];
+        if (KIND_OF(j) != SPH_PARTICLE_FLUID) continue;
+        const vec d = periodic_image(prm, hvec_diff(pos, n, i, j));
+        weight += kernel_w(prm, sqrt(vec_dot(d, d))) * vol[j];
+        rho_sum += (real)rho[j];
+        v_sum = vec_add(v_sum, vec_load(vel, n, j));
+        ++count;
+    }
+    vec u_inf;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) u_inf.c[a] = prm->far_field_velocity[a];
+    const real rho_inf = prm->far_field_density;
+    const vec nrm = vec_load(normal, n, i);
+    const real s = count > 0 ? weight : R(0);
+    const real rho_bar = count > 0 ? rho_sum / (real)count : rho_inf;
+    const vec v_bar = count > 0 ? vec_scale(v_sum, R(1) / (real)count) : u_inf;
+    const real r = s * rho_bar + (R(1) - s) * rho_inf;
+    const real vn = s * vec_dot(v_bar, nrm) + (R(1) - s) * vec_dot(u_inf, nrm);
+    const vec tangential_of = kind_i == SPH_PARTICLE_INFLOW ? u_inf : v_bar;
+    const vec tangential = vec_axpy(tangential_of, -vec_dot(tangential_of, nrm), nrm);
+    vec_store(vel, n, i, vec_axpy(tangential, vn, nrm));
+    rho[i] = (hreal)r;
+    mass[i] = r * vol[i];
+    pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
+}
+#    endif
 
 /* The step clock's speed (sph_step_clock.h: dt = CFL h / (C0 + sqrt of
  * this)): WC |v|^2 with C0 = c0; compressible (c + |v|)^2 with C0 = 0, the
@@ -332,7 +455,7 @@ FN void eulerian_diagnostics_contrib(const int i, const int n, CONSTANT sph_para
                                      GLOBAL const hreal *pos, GLOBAL const real *vel,
                                      GLOBAL const real *mass, GLOBAL const real *vol,
                                      GLOBAL const real *pressure, GLOBAL const real *energy,
-                                     real *c) {
+                                     GLOBAL const real *wall_force, real *c) {
     const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
     const real m = mass[i];
     const real kinetic = R(0.5) * m * vec_dot(v, v);
@@ -361,6 +484,14 @@ FN void eulerian_diagnostics_contrib(const int i, const int n, CONSTANT sph_para
 #    endif
     c[2 + SPH_DIM + NSPIN] = m;
     c[3 + SPH_DIM + NSPIN] = total;
+#    if SPH_FLUID_WALLS
+    /* then the wall pairs' shares of F (pressure d, viscous d): the force on
+     * the walls is minus their sum */
+    UNROLL for (int a = 0; a < 2 * SPH_DIM; ++a) c[4 + SPH_DIM + NSPIN + a] =
+        PRESENT(wall_force) ? wall_force[a * n + i] : R(0);
+#    else
+    (void)wall_force;
+#    endif
 }
 
 #endif

@@ -26,7 +26,8 @@
     (1 + SPH_NBODIES * (SPH_DIM * SPH_DIM + (SPH_HAS_TORQUE_PROJECTION ? TORQUE_NCOMP : 0)))
 /* fluids add the total mass and energy (eulerian_step.cl) */
 #if SPH_HAS_EULERIAN
-#    define DIAG_NCOMP (4 + SPH_DIM + NSPIN)
+/* and, with walls, the wall pairs' shares of F (pressure, viscous) */
+#    define DIAG_NCOMP (4 + SPH_DIM + NSPIN + (SPH_FLUID_WALLS ? 2 * SPH_DIM : 0))
 #else
 #    define DIAG_NCOMP (2 + SPH_DIM + NSPIN)
 #endif
@@ -299,15 +300,22 @@ substep_reduce(const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
 #            define DIAG_ENERGY_PARAM
 #            define DIAG_ENERGY_ARG 0
 #        endif
+#        if SPH_FLUID_WALLS
+#            define DIAG_WALL_PARAM , GLOBAL const real *restrict wall_force
+#            define DIAG_WALL_ARG   wall_force
+#        else
+#            define DIAG_WALL_PARAM
+#            define DIAG_WALL_ARG 0
+#        endif
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                    GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
-                   GLOBAL real *restrict partials DIAG_ENERGY_PARAM) {
+                   GLOBAL real *restrict partials DIAG_ENERGY_PARAM DIAG_WALL_PARAM) {
     REDUCE_SCRATCH;
-    REDUCE_PARTICLES(
-        0, DIAG_NCOMP, DIAG_NCOMP,
-        eulerian_diagnostics_contrib(i, n, prm, pos, vel, mass, vol, pressure, DIAG_ENERGY_ARG, c));
+    REDUCE_PARTICLES(0, DIAG_NCOMP, DIAG_NCOMP,
+                     eulerian_diagnostics_contrib(i, n, prm, pos, vel, mass, vol, pressure,
+                                                  DIAG_ENERGY_ARG, DIAG_WALL_ARG, c));
 }
 #    else
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void

@@ -32,6 +32,13 @@
 #define FORM_IS_EULERIAN(f)                                                                        \
     ((f) == FORMULATION_EULERIAN_WC || (f) == FORMULATION_EULERIAN_COMPRESSIBLE)
 
+/* Particle kinds of fluid scenes with walls or a far field (field `kind`,
+ * device/eulerian_step.cl; host/particles.h) */
+#define SPH_PARTICLE_FLUID   0 /* fluid */
+#define SPH_PARTICLE_WALL    1 /* a particle of a wall body: at rest, bounds the fluid */
+#define SPH_PARTICLE_INFLOW  2 /* far-field fluid, inflow face: free stream blended in */
+#define SPH_PARTICLE_OUTFLOW 3 /* far-field fluid, outflow face */
+
 /* Moments per body of the torque projection (device/sph_torque_projection.h,
  * TORQUE_NCOMP), for the host's buffer sizes: 18 in 2D, 34 in 3D. */
 #define SPH_TORQUE_NCOMP(d) (3 * (d) + 1 + 2 * (d) * (d) + (d) * ((d) + 1) / 2)

@@ -74,6 +74,8 @@
     X(S, T, REAL, contact_impedance, 1, "contact impedance factor (x 1/2 rho0 c0, sph_contact.h)") \
     X(S, T, REAL, contact_penalty, 1, "contact penalty factor (x rho0 c0^2, sph_contact.h)")       \
     X(S, T, REALS, period, 3, "fluids: length of each periodic axis (0: not periodic)")            \
+    X(S, T, REAL, far_field_density, 1, "fluids: the far field's free-stream density")             \
+    X(S, T, REALS, far_field_velocity, 3, "fluids: the far field's free-stream velocity")          \
     X(S, T, MATERIALS, materials, SPH_MAX_MATERIALS, "the material table")                         \
     X(S, T, WALLS, walls, SPH_MAX_WALLS, "the wall table, nwalls rows used")                       \
     X(S, T, CONSTRAINTS, constraints, SPH_MAX_CONSTRAINTS, "the constraint table")                 \

@@ -194,6 +194,25 @@ typedef uint64_t ulong;
  * formulation), so a solid program has none of their buffers or code. */
 #define SPH_HAS_EULERIAN     FORM_IS_EULERIAN(RUNTIME_FORMULATION)
 #define SPH_HAS_COMPRESSIBLE (RUNTIME_FORMULATION == FORMULATION_EULERIAN_COMPRESSIBLE)
+/* Fluid scenes with wall bodies or a far field: the per-particle kind and
+ * normal (SPH_FLUID_KINDS), the wall-pair forces (SPH_FLUID_WALLS), the far
+ * field's pass (SPH_FAR_FIELD); -D options of the OpenCL program, always
+ * compiled into the native fluid instances (PRESENT tests the buffers). */
+#if SPH_OPENCL
+#    ifndef SPH_FLUID_KINDS
+#        define SPH_FLUID_KINDS 0
+#    endif
+#    ifndef SPH_FLUID_WALLS
+#        define SPH_FLUID_WALLS 0
+#    endif
+#    ifndef SPH_FAR_FIELD
+#        define SPH_FAR_FIELD 0
+#    endif
+#else
+#    define SPH_FLUID_KINDS SPH_HAS_EULERIAN
+#    define SPH_FLUID_WALLS SPH_HAS_EULERIAN
+#    define SPH_FAR_FIELD   SPH_HAS_EULERIAN
+#endif
 
 /* The substep size dt of the substep kernels: an argument, or (SPH_STEP_CLOCK)
  * the size the previous substep's substep_finalize planned in the step

@@ -131,6 +131,24 @@ bool sph_angular_momentum_conserved(const sph_scene *scene, char *why, size_t si
         add_reason(why, size, text);
         conserved = false;
     }
+    /* fluids: a wall body takes force and torque from the fluid, the far
+     * field lets momentum in and out, and about a point of a periodic
+     * domain the angular momentum is not conserved (a particle leaving at one
+     * side enters at the other with the same velocity, its arm changed) */
+    for (int b = 0; b < scene->nbodies; ++b)
+        if (scene->bodies[b].role == SPH_BODY_WALL) {
+            snprintf(text, sizeof text, "wall body '%s'", scene->bodies[b].name);
+            add_reason(why, size, text);
+            conserved = false;
+        }
+    if (scene->has_far_field) {
+        add_reason(why, size, "far field");
+        conserved = false;
+    }
+    if (scene->periodic_mask) {
+        add_reason(why, size, "periodic boundary");
+        conserved = false;
+    }
     /* uniform gravity exerts the torque x_c cross M g about the origin */
     const double *g = scene->gravity;
     if (g[0] != 0.0 || g[1] != 0.0 || (scene->dim == 3 && g[2] != 0.0)) {
@@ -181,8 +199,10 @@ void sph_metrics_compute(const sph_timeseries *ts, int period_observer, int peri
     if (!m->angular_momentum_not_conserved[0] && spins && l0 > 0.0)
         m->max_angular_momentum_error = max_l / l0;
     /* the same outside forces (constraints, walls, gravity) change the linear
-     * momentum: its drift is reported only where it is conserved */
-    if (!m->angular_momentum_not_conserved[0] && initial->momentum_sum > 0.0)
+     * momentum: its drift is reported only where it is conserved (a periodic
+     * domain conserves it: "periodic boundary" alone does not count) */
+    const bool only_periodic = strcmp(m->angular_momentum_not_conserved, "periodic boundary") == 0;
+    if ((!m->angular_momentum_not_conserved[0] || only_periodic) && initial->momentum_sum > 0.0)
         m->max_linear_momentum_drift = max_p / initial->momentum_sum;
     const double e0 = d0->kinetic + d0->strain;
     const sph_diagnostics *de = &ts->diag[ts->count - 1];
@@ -202,4 +222,90 @@ void sph_metrics_compute(const sph_timeseries *ts, int period_observer, int peri
         m->max_observer_displacement = max_disp;
         free(y);
     }
+}
+
+/* Mean spacing of the upward zero crossings of y(t) - mean over the
+ * samples, by linear interpolation; NAN with fewer than two crossings. */
+static double crossing_period(const double *t, const double *y, int count) {
+    if (count < 3) return NAN;
+    double mean = 0.0;
+    for (int k = 0; k < count; ++k) mean += y[k];
+    mean /= count;
+    double first = NAN, last = NAN;
+    int crossings = 0;
+    for (int k = 1; k < count; ++k) {
+        const double a = y[k - 1] - mean, b = y[k] - mean;
+        if (a < 0.0 && b >= 0.0) {
+            const double tc = t[k - 1] + (t[k] - t[k - 1]) * (-a) / (b - a);
+            if (crossings == 0) first = tc;
+            last = tc;
+            ++crossings;
+        }
+    }
+    return crossings >= 2 ? (last - first) / (crossings - 1) : NAN;
+}
+
+void sph_fluid_metrics_compute(const sph_timeseries *ts, const sph_scene *scene,
+                               sph_fluid_metrics *m) {
+    m->max_mass_drift = m->max_total_energy_drift = NAN;
+    m->mean_drag_coefficient = m->lift_amplitude = m->strouhal_number = NAN;
+    m->force_window_start = NAN;
+    if (ts->count == 0 || !SPH_FORMULATION_IS_EULERIAN(scene->formulation)) return;
+    const sph_diagnostics *d0 = &ts->diag[0];
+    double max_dm = 0.0, max_de = 0.0;
+    for (int k = 0; k < ts->count; ++k) {
+        max_dm = fmax(max_dm, fabs(ts->diag[k].mass - d0->mass));
+        max_de = fmax(max_de, fabs(ts->diag[k].total_energy - d0->total_energy));
+    }
+    if (d0->mass > 0.0) m->max_mass_drift = max_dm / d0->mass;
+    if (scene->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE && d0->total_energy > 0.0)
+        m->max_total_energy_drift = max_de / d0->total_energy;
+    if (!scene->has_forces) return;
+    /* the trailing window: forces.window, or the second half of the run */
+    const double t_end = ts->time[ts->count - 1];
+    const double window = scene->force_window > 0.0 ? scene->force_window : 0.5 * t_end;
+    const double start = fmax(0.0, t_end - window);
+    m->force_window_start = start;
+    int first = 0;
+    while (first < ts->count && ts->time[first] < start) ++first;
+    const int count = ts->count - first;
+    if (count < 1) return;
+    double *t = malloc((size_t)count * sizeof(double)),
+           *cl = malloc((size_t)count * sizeof(double));
+    if (!t || !cl) {
+        free(t);
+        free(cl);
+        return;
+    }
+    double sum_cd = 0.0, lo = INFINITY, hi = -INFINITY;
+    for (int k = 0; k < count; ++k) {
+        double cd, c_l;
+        sph_force_coefficients(scene, &ts->diag[first + k], &cd, &c_l);
+        t[k] = ts->time[first + k];
+        cl[k] = c_l;
+        sum_cd += cd;
+        lo = fmin(lo, c_l);
+        hi = fmax(hi, c_l);
+    }
+    m->mean_drag_coefficient = sum_cd / count;
+    m->lift_amplitude = 0.5 * (hi - lo);
+    const double period = crossing_period(t, cl, count);
+    /* St = f L / U (004 §4.3) */
+    if (isfinite(period) && period > 0.0)
+        m->strouhal_number =
+            scene->force_reference_length / (period * scene->force_reference_speed);
+    free(t);
+    free(cl);
+}
+
+void sph_force_coefficients(const sph_scene *scene, const sph_diagnostics *d, double *drag,
+                            double *lift) {
+    /* C = 2 F / (rho U^2 L) per unit depth in 2D (004 §4.3): drag along the
+     * free stream (x), lift across it (y) */
+    const double q = 0.5 * scene->force_reference_density * scene->force_reference_speed *
+                     scene->force_reference_speed * scene->force_reference_length;
+    const double fx = d->wall_pressure_force[0] + d->wall_viscous_force[0];
+    const double fy = d->wall_pressure_force[1] + d->wall_viscous_force[1];
+    *drag = q > 0.0 ? fx / q : NAN;
+    *lift = q > 0.0 ? fy / q : NAN;
 }

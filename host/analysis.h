@@ -81,6 +81,25 @@ typedef struct {
     double total_mass, momentum_scale, angular_momentum_scale, energy_scale;
 } sph_metrics;
 
+/* Fluids (the eulerian formulations): conservation and the forces on the
+ * wall bodies (004 §4.3, Table 5). */
+typedef struct {
+    double max_mass_drift;         /* max |M(t) - M(0)| / M(0) */
+    double max_total_energy_drift; /* compressible: max |E(t) - E(0)| / E(0) */
+    /* with `forces`, over the trailing window [force_window_start, end]:
+     * the mean C_D, half the peak-to-peak C_L, and St = f L / U from the
+     * mean spacing of C_L's upward crossings of its mean */
+    double mean_drag_coefficient, lift_amplitude, strouhal_number;
+    double force_window_start;
+} sph_fluid_metrics;
+
+void sph_fluid_metrics_compute(const sph_timeseries *ts, const sph_scene *scene,
+                               sph_fluid_metrics *m);
+/* C_D and C_L of one sample: 2 F / (rho_ref U_ref^2 L_ref), F the force on
+ * the walls along x and y. */
+void sph_force_coefficients(const sph_scene *scene, const sph_diagnostics *d, double *drag,
+                            double *lift);
+
 /* Period from samples y(t) (displacement from the start value). */
 double sph_first_period(const double *t, const double *y, int count);
 

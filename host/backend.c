@@ -95,6 +95,12 @@ void sph_diagnostics_unpack(const double *reduced, int dim, sph_diagnostics *out
     const int nspin = dim == 2 ? 1 : 3;
     out->mass = reduced[2 + dim + nspin];
     out->total_energy = reduced[3 + dim + nspin];
+    /* the wall pairs' shares of the fluid's momentum rate: the walls get
+     * the opposite */
+    for (int a = 0; a < dim; ++a) {
+        out->wall_pressure_force[a] = -reduced[4 + dim + nspin + a];
+        out->wall_viscous_force[a] = -reduced[4 + 2 * dim + nspin + a];
+    }
 }
 
 void sph_backend_record_buffer(sph_backend *be, const char *name, size_t bytes) {

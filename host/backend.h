@@ -70,6 +70,9 @@ typedef struct {
     /* fluids: total mass and total energy (kinetic + internal; `strain` is
      * the internal energy, device/eulerian_step.cl); 0 for solids */
     double mass, total_energy;
+    /* fluids with walls: the force of the fluid on the walls, its pressure
+     * part and its viscous part (device/eulerian_step.cl) */
+    double wall_pressure_force[3], wall_viscous_force[3];
     /* instability monitor (device/monitor.cl), filled by the solver */
     double min_distance_ratio; /* smallest pair distance / dp */
     double gradient_scale;     /* the largest max |L_i| (Frobenius) of the run up to now */

@@ -142,6 +142,10 @@ static sph_status cpu_upload(sph_backend *be, const sph_particles *p, sph_error 
      * EOS, and the total energy from the pressure: eulerian_prepare) */
     if (c->b.field[FIELD_PRESSURE] && p->pressure)
         for (int i = 0; i < n; ++i) set_field(be, FIELD_PRESSURE, (size_t)i, p->pressure[i]);
+    /* walls and the far field: kinds and normals */
+    if (c->b.field[FIELD_KIND] && p->kind) memcpy(c->b.field[FIELD_KIND], p->kind, (size_t)n);
+    if (c->b.field[FIELD_NORMAL] && p->normal)
+        for (size_t k = 0; k < (size_t)d * n; ++k) set_field(be, FIELD_NORMAL, k, p->normal[k]);
     memset(c->b.substep_sums, 0, SUBSTEP_SUMS_LEN * c->real_size);
     return SPH_OK;
 }
@@ -267,7 +271,8 @@ static sph_status cpu_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     (void)err;
     cpu_impl *c = be->impl;
     const int d = be->features.dim;
-    double red[4 + 3 + 3] = {0}; /* fluids: 2 + d + (1 or 3), then mass and energy */
+    /* fluids: 2 + d + (1 or 3), mass and energy, the wall forces (2d) */
+    double red[4 + 3 + 3 + 6] = {0};
     const double t0 = phase_start(be);
     c->k->diagnostics(&c->b, red);
     phase_end(be, "diagnostics_reduce", t0);

@@ -130,9 +130,32 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 }
 
 #if SPH_HAS_EULERIAN
+#    if SPH_HAS_COMPRESSIBLE
+#        define ENERGY_FIELD_ARG       , F_REAL(b, FIELD_ENERGY)
+#        define ENERGY_RATE_FIELD_ARGS , F_REAL(b, FIELD_ENERGY), F_REAL(b, FIELD_ENERGY_RATE)
+#    else
+#        define ENERGY_FIELD_ARG
+#        define ENERGY_RATE_FIELD_ARGS
+#    endif
+/* walls and the far field (NULL buffers when the scene has neither) */
+#    define KIND_FIELD_ARGS , F_U8(b, FIELD_KIND), F_REAL(b, FIELD_NORMAL)
+
+/* The far field's pass (eulerian_step.cl), as an orphaned loop of the
+ * caller's parallel region; nothing without far-field particles. */
+static void far_field_pass(cpu_buffers *b) {
+    if (!b->field[FIELD_KIND] || ((const sph_params *)b->prm)->far_field_density <= 0) return;
+    const int n = b->n, cap = b->cap;
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
+#    pragma omp for schedule(static)
+    for (int i = 0; i < n; ++i)
+        eulerian_far_field(i, n, cap, prm, b->nbr_count, b->nbr_j, F_HREAL(b, FIELD_POS),
+                           F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                           F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE) KIND_FIELD_ARGS);
+}
+
 /* Once after the rebuild of a fluid run (eulerian_step.cl): the pressure
- * (WC) or total energy (compressible) of the initial state, and the
- * corrected pair gradients of eq. 18. */
+ * (WC) or total energy (compressible) of the initial state, the corrected
+ * pair gradients of eq. 18, and the far field's first blend. */
 static void fluid_setup_impl(cpu_buffers *b) {
     const int n = b->n, cap = b->cap;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
@@ -141,22 +164,19 @@ static void fluid_setup_impl(cpu_buffers *b) {
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             eulerian_prepare(i, n, prm, F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
-                             F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE)
-#    if SPH_HAS_COMPRESSIBLE
-                                                       ,
-                             F_REAL(b, FIELD_ENERGY), F_REAL(b, FIELD_ENERGY_RATE)
-#    endif
-            );
+                             F_REAL(b, FIELD_VOL),
+                             F_REAL(b, FIELD_PRESSURE) ENERGY_RATE_FIELD_ARGS);
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             eulerian_correct_pairs(i, n, cap, b->nbr_count, b->nbr_j, F_REAL(b, FIELD_BMAT),
                                    (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r);
+        far_field_pass(b);
     }
 }
 
 /* One step of a fluid run (eulerian_step.cl) in one parallel region: the
- * momentum rate, the mass and energy rates, then the update over fixed
- * blocks of SPH_WG particles with the step clock's signal speed. */
+ * momentum rate, the mass and energy rates, the update, the far field, then
+ * the step clock's signal speed over fixed blocks of SPH_WG particles. */
 static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     const real dt = (real)dt_in;
     const int n = b->n, cap = b->cap;
@@ -164,13 +184,6 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
     real *sums = (real *)b->substep_sums;
     real *partials = (real *)b->partials;
     const int ngroups = (n + SPH_WG - 1) / SPH_WG;
-#    if SPH_HAS_COMPRESSIBLE
-#        define ENERGY_FIELD_ARG       , F_REAL(b, FIELD_ENERGY)
-#        define ENERGY_RATE_FIELD_ARGS , F_REAL(b, FIELD_ENERGY), F_REAL(b, FIELD_ENERGY_RATE)
-#    else
-#        define ENERGY_FIELD_ARG
-#        define ENERGY_RATE_FIELD_ARGS
-#    endif
 #    pragma omp parallel if (b->parallel)
     {
 #    pragma omp for schedule(static)
@@ -179,7 +192,8 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
                 i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                 (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
                 F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                F_REAL(b, FIELD_FORCE) ENERGY_FIELD_ARG, F_U8(b, FIELD_FIXED));
+                F_REAL(b, FIELD_FORCE) ENERGY_FIELD_ARG, F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS,
+                F_REAL(b, FIELD_WALL_FORCE));
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             eulerian_mass_energy_rate(
@@ -187,22 +201,22 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
                 (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
                 F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
                 F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_FORCE), F_REAL(b, FIELD_MASS_RATE),
-                F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS);
+                F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS KIND_FIELD_ARGS);
+#    pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i)
+            eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                            F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
+                            F_REAL(b, FIELD_FORCE),
+                            F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS,
+                            F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+        far_field_pass(b);
 #    pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g)
-            REDUCE_BLOCK(
-                g, n, 1, 1, SUBSTEP_NCOMP_MAX, partials,
-                (eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
-                                 F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
-                                 F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_FORCE),
-                                 F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS,
-                                 F_U8(b, FIELD_FIXED)),
-                 c[0] = eulerian_signal_speed2(prm, (real)F_HREAL(b, FIELD_RHO)[i],
-                                               F_REAL(b, FIELD_PRESSURE)[i],
-                                               vec_load(F_REAL(b, FIELD_VEL), n, i))));
+            REDUCE_BLOCK(g, n, 1, 1, SUBSTEP_NCOMP_MAX, partials,
+                         c[0] = eulerian_signal_speed2(prm, (real)F_HREAL(b, FIELD_RHO)[i],
+                                                       F_REAL(b, FIELD_PRESSURE)[i],
+                                                       vec_load(F_REAL(b, FIELD_VEL), n, i)));
     }
-#    undef ENERGY_FIELD_ARG
-#    undef ENERGY_RATE_FIELD_ARGS
     combine_rows(ngroups, 1, 1, partials, sums);
     *max_speed2 = (double)sums[0];
 }
@@ -301,7 +315,8 @@ static void diagnostics_impl(cpu_buffers *b, double *out) {
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
                  eulerian_diagnostics_contrib(
                      i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
-                     F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_ENERGY), c));
+                     F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_ENERGY),
+                     F_REAL(b, FIELD_WALL_FORCE), c));
 #else
 #    pragma omp parallel if (b->parallel)
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,

@@ -69,6 +69,7 @@ typedef struct {
     /* fluids only (eulerian_step.cl): once after the rebuild, then per step */
     sph_cl_kernel eulerian_prepare, eulerian_correct_pairs;
     sph_cl_kernel eulerian_momentum_rate, eulerian_mass_energy_rate, eulerian_update;
+    sph_cl_kernel eulerian_far_field; /* far field only */
 } kernel_set;
 
 typedef struct {
@@ -404,6 +405,9 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     /* the compressible initial pressure (eulerian_prepare derives the rest) */
     if (!st && o->field[FIELD_PRESSURE] && p->pressure)
         st = write_field(be, o, FIELD_PRESSURE, p->pressure, err);
+    /* walls and the far field: normals (the kinds with the u8 fields below) */
+    if (!st && o->field[FIELD_NORMAL] && p->normal)
+        st = write_field(be, o, FIELD_NORMAL, p->normal, err);
     free(vol);
     if (st) return st;
     cl_int rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_ID], CL_TRUE, 0,
@@ -414,6 +418,9 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     if (rc == CL_SUCCESS && o->field[FIELD_FIXED])
         rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_FIXED], CL_TRUE, 0, (size_t)n, p->fixed,
                                   0, NULL, NULL);
+    if (rc == CL_SUCCESS && o->field[FIELD_KIND])
+        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_KIND], CL_TRUE, 0, (size_t)n, p->kind, 0,
+                                  NULL, NULL);
     if (rc == CL_SUCCESS)
         rc = clEnqueueFillBuffer(o->queue, o->substep_sums, &zero, 1, 0,
                                  SUBSTEP_SUMS_LEN * o->real_size, 0, NULL, NULL);
@@ -576,6 +583,8 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         st = launch(o, &o->k.eulerian_prepare, (size_t)be->n, o->item_wg, NULL, 0, err);
     if (!st && o->k.eulerian_correct_pairs.kernel)
         st = launch(o, &o->k.eulerian_correct_pairs, (size_t)be->n, o->item_wg, NULL, 0, err);
+    if (!st && o->k.eulerian_far_field.kernel)
+        st = launch(o, &o->k.eulerian_far_field, (size_t)be->n, o->item_wg, NULL, 0, err);
     info->max_neighbours = o->cap;
     return st;
 }
@@ -595,6 +604,10 @@ static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_err
         if (!st)
             st = launch(o, &o->k.eulerian_mass_energy_rate, items, o->item_wg, dt_arg, ndt, err);
         if (!st) st = launch(o, &o->k.eulerian_update, items, o->item_wg, dt_arg, ndt, err);
+        /* the far field is state, not a step: no dt (a halted device clock
+         * leaves the state it would blend unchanged, so it is idempotent) */
+        if (!st && o->k.eulerian_far_field.kernel)
+            st = launch(o, &o->k.eulerian_far_field, items, o->item_wg, NULL, 0, err);
     } else if (o->k.tl_deformation.kernel) {
         st = launch(o, &o->k.tl_deformation, items, o->item_wg, dt_arg, ndt, err);
         if (!st) st = launch(o, &o->k.tl_acceleration, items, o->item_wg, dt_arg, ndt, err);
@@ -697,10 +710,12 @@ static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_er
 static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_error *err) {
     ocl_impl *o = be->impl;
     const int d = be->features.dim;
-    /* fluids add mass and total energy (reduction.cl, DIAG_NCOMP) */
-    const int ncomp =
-        2 + d + (d == 2 ? 1 : 3) + (FORM_IS_EULERIAN((int)be->features.formulation) ? 2 : 0);
-    double red[10] = {0};
+    /* fluids add mass and total energy, and with walls the wall forces
+     * (reduction.cl, DIAG_NCOMP) */
+    const bool fluid = FORM_IS_EULERIAN((int)be->features.formulation);
+    const int ncomp = 2 + d + (d == 2 ? 1 : 3) + (fluid ? 2 : 0) +
+                      (fluid && be->features.fluid_walls ? 2 * d : 0);
+    double red[16] = {0};
     sph_status st = launch(o, &o->k.diagnostics_reduce, o->reduce_items, o->wg, NULL, 0, err);
     if (!st) st = finalize(o, 0, ncomp, o->result, err);
     if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
@@ -874,6 +889,7 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
         {&o->k.eulerian_momentum_rate, "eulerian_momentum_rate", fluid},
         {&o->k.eulerian_mass_energy_rate, "eulerian_mass_energy_rate", fluid},
         {&o->k.eulerian_update, "eulerian_update", fluid},
+        {&o->k.eulerian_far_field, "eulerian_far_field", fluid && f->far_field},
         {&o->k.shear_force, "acoustic_shear_force",
          !tlsph && FORM_HAS_STRESS_DIV((int)f->formulation)},
         /* the substep reduction: with the device clock, its second stage

@@ -19,6 +19,8 @@
 #define CHECKPOINT_FORMAT        5
 #define CHECKPOINT_FORMAT_OLDEST 4
 #define DIAG_VALUES              11 /* kinetic, strain, momentum[3], angular[3], monitor[3] */
+/* series_fluid: mass, total energy, wall pressure force[3], wall viscous force[3] */
+#define FLUID_VALUES 8
 
 void sph_checkpoint_path(const char *run_dir, char *buf, size_t len) {
     snprintf(buf, len, "%s/checkpoint/checkpoint.h5", run_dir);
@@ -111,10 +113,15 @@ static sph_status write_series(const sph_h5_writer *w, const sph_timeseries *ts,
      * checkpoint without the dataset restores zeros) */
     if (!st) {
         for (hsize_t k = 0; k < count; ++k) {
-            diag[2 * k] = ts->diag[k].mass;
-            diag[2 * k + 1] = ts->diag[k].total_energy;
+            double *row = diag + FLUID_VALUES * k;
+            row[0] = ts->diag[k].mass;
+            row[1] = ts->diag[k].total_energy;
+            for (int a = 0; a < 3; ++a) {
+                row[2 + a] = ts->diag[k].wall_pressure_force[a];
+                row[5 + a] = ts->diag[k].wall_viscous_force[a];
+            }
         }
-        const hsize_t d4[2] = {count, 2};
+        const hsize_t d4[2] = {count, FLUID_VALUES};
         st = sph_h5_write(w, w->file, "series_fluid", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 2, d4,
                           diag, err);
     }
@@ -313,16 +320,22 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
         st = sph_h5_read(f, path, "series_observers", H5T_NATIVE_DOUBLE, obs, rows * per_row, err);
     double *fluid = NULL;
     if (!st && H5Lexists(f, "series_fluid", H5P_DEFAULT) > 0) {
-        fluid = malloc(rows * 2 * sizeof(double) + 1);
-        st = fluid ? sph_h5_read(f, path, "series_fluid", H5T_NATIVE_DOUBLE, fluid, rows * 2, err)
+        fluid = malloc(rows * FLUID_VALUES * sizeof(double) + 1);
+        st = fluid ? sph_h5_read(f, path, "series_fluid", H5T_NATIVE_DOUBLE, fluid,
+                                 rows * FLUID_VALUES, err)
                    : sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     }
     for (size_t k = 0; !st && k < rows; ++k) {
         sph_diagnostics d = {0};
         diag_unpack(diag + k * DIAG_VALUES, &d);
         if (fluid) {
-            d.mass = fluid[2 * k];
-            d.total_energy = fluid[2 * k + 1];
+            const double *row = fluid + FLUID_VALUES * k;
+            d.mass = row[0];
+            d.total_energy = row[1];
+            for (int a = 0; a < 3; ++a) {
+                d.wall_pressure_force[a] = row[2 + a];
+                d.wall_viscous_force[a] = row[5 + a];
+            }
         }
         st = sph_timeseries_append(ts, time[k], &d, obs + k * per_row, err);
     }

@@ -27,6 +27,12 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
     out->torque_projection = scene->torque_projection;
     for (int b = 0; b < scene->nbodies; ++b)
         if (scene->materials[scene->bodies[b].material].plastic) out->plastic = true;
+    if (SPH_FORMULATION_IS_EULERIAN(scene->formulation)) {
+        for (int b = 0; b < scene->nbodies; ++b)
+            if (scene->bodies[b].role == SPH_BODY_WALL) out->fluid_walls = true;
+        out->far_field = scene->has_far_field;
+        out->fluid_kinds = particles->kind != NULL;
+    }
 }
 
 const char *sph_precision_name(const sph_features *f) {
@@ -54,14 +60,18 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
              "-DSPH_TORQUE_PROJECTION=%d -DSPH_WG=%d "
-             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu",
+             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
              f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
              pair_recompute ? 1 : 0, f->torque_projection ? 1 : 0, reduce_wg, sort_wg,
              /* the host's size of the block, which the program checks
               * (device/sph_params.h) */
-             f->double_precision ? sizeof(sph_params_f64) : sizeof(sph_params_f32));
+             f->double_precision ? sizeof(sph_params_f64) : sizeof(sph_params_f32),
+             /* fluids: walls and far field (device/sph_prelude.h) */
+             f->fluid_kinds ? " -DSPH_FLUID_KINDS=1" : "",
+             f->fluid_walls ? " -DSPH_FLUID_WALLS=1" : "",
+             f->far_field ? " -DSPH_FAR_FIELD=1" : "");
 }
 
 int sph_substep_ncomp(const sph_features *f) {
@@ -72,7 +82,11 @@ int sph_substep_ncomp(const sph_features *f) {
 
 int sph_partial_ncomp(const sph_features *f) {
     /* rebuild 2d + 2, diagnostics 2 + d + (1 or 3), monitor 4 + 2d */
-    const int others = SPH_MONITOR_NCOMP(f->dim);
+    int others = SPH_MONITOR_NCOMP(f->dim);
+    /* fluid diagnostics with walls: 4 + d + (1 or 3) + 2d (reduction.cl;
+     * the native fluid instances always have the wall components) */
+    const int fluid_diag = 4 + f->dim + (f->dim == 2 ? 1 : 3) + 2 * f->dim;
+    if (SPH_FORMULATION_IS_EULERIAN(f->formulation) && fluid_diag > others) others = fluid_diag;
     const int substep = sph_substep_ncomp(f);
     return substep > others ? substep : others;
 }
@@ -136,6 +150,8 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     row->viscosity = m->viscosity;
     row->gamma = m->gamma;
     prm->periodic_mask = scene->periodic_mask;
+    prm->far_field_density = scene->far_field_density;
+    for (int a = 0; a < scene->dim; ++a) prm->far_field_velocity[a] = scene->far_field_velocity[a];
     for (int a = 0; a < scene->dim; ++a)
         if (scene->periodic_mask & (1 << a))
             prm->period[a] = scene->periodic_upper[a] - scene->periodic_lower[a];

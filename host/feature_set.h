@@ -40,6 +40,9 @@ typedef struct {
     /* SPH-ENOG-A's accumulated shear acceleration kept free of net torque
      * per body (method.torque_projection, device/sph_torque_projection.h) */
     bool torque_projection;
+    /* fluids (device/eulerian_step.cl): particle kinds and normals (walls
+     * or a far field), wall bodies, the far field */
+    bool fluid_kinds, fluid_walls, far_field;
 } sph_features;
 
 void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,

@@ -51,6 +51,9 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         [FIELD_ENERGY] = {"energy", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_ENERGY_RATE] = {"energy_rate", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_VORTICITY] = {"vorticity", FIELD_TYPE_REAL, nspin, fluid},
+        [FIELD_KIND] = {"kind", FIELD_TYPE_U8, 1, fluid && f->fluid_kinds},
+        [FIELD_NORMAL] = {"normal", FIELD_TYPE_REAL, d, fluid && f->fluid_kinds},
+        [FIELD_WALL_FORCE] = {"wall_force", FIELD_TYPE_REAL, 2 * d, fluid && f->fluid_walls},
     };
     for (int k = 0; k < FIELD_COUNT; ++k) out[k] = table[k];
 }

@@ -48,6 +48,9 @@ typedef enum {
     FIELD_ENERGY,      /* total energy of the particle, E w (compressible) */
     FIELD_ENERGY_RATE, /* d(E w)/dt (compressible) */
     FIELD_VORTICITY,   /* curl v (2D: its z component) */
+    FIELD_KIND,        /* SPH_PARTICLE_* (walls or a far field) */
+    FIELD_NORMAL,      /* wall particles: normal into the fluid; far field: outward */
+    FIELD_WALL_FORCE,  /* the wall pairs' share of d(m v)/dt: pressure (d), viscous (d) */
     FIELD_COUNT
 } sph_field;
 

@@ -85,6 +85,34 @@ static sph_status find_monitor_max(sph_backend *be, const sph_params_f64 *prm, h
     return SPH_OK;
 }
 
+/* Fluids: the first (lowest id) particle whose density, or compressible
+ * pressure, is not positive (the step clock's signal speed is then +inf,
+ * device/eulerian_step.cl). */
+static sph_status find_nonpositive(sph_backend *be, host_state *h, int *slot,
+                                   sph_trip_location *out, sph_error *err) {
+    const sph_field fields[] = {FIELD_RHO, FIELD_PRESSURE};
+    const char *names[] = {"density", "pressure"};
+    const bool compressible = be->features.formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
+    for (int f = 0; f < (compressible ? 2 : 1); ++f) {
+        double *x = alloc_field(be, fields[f]);
+        if (!x) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+        const sph_status st = be->ops->download(be, fields[f], x, err);
+        if (st) {
+            free(x);
+            return st;
+        }
+        for (int i = 0; i < h->n; ++i)
+            if (!(x[i] > 0.0) && (*slot < 0 || h->id[i] < h->id[*slot])) {
+                *slot = i;
+                snprintf(out->field, sizeof out->field, "%s", names[f]);
+                out->nonpositive = true;
+            }
+        free(x);
+        if (*slot >= 0) break;
+    }
+    return SPH_OK;
+}
+
 static sph_status find_fastest(sph_backend *be, host_state *h, int *slot, sph_error *err) {
     h->vel = alloc_field(be, FIELD_VEL);
     if (!h->vel) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
@@ -143,6 +171,8 @@ sph_status sph_instability_locate(sph_backend *be, const sph_params_f64 *prm, sp
         switch (kind) {
         case SPH_TRIP_NONFINITE:
             st = find_nonfinite(be, &h, &slot, out, err);
+            if (!st && slot < 0 && FORM_IS_EULERIAN((int)be->features.formulation))
+                st = find_nonpositive(be, &h, &slot, out, err);
             /* every field finite: the energy sums overflowed; the fastest
              * particle is the one to look at */
             if (!st && slot < 0) st = find_fastest(be, &h, &slot, err);

@@ -25,6 +25,9 @@ typedef struct {
     int body;           /* body index */
     double position[3]; /* current position */
     char field[32];     /* SPH_TRIP_NONFINITE: the first field holding one */
+    /* fluids: every field finite, but a density (or a compressible
+     * pressure) not positive, in `field` ("density", "pressure") */
+    bool nonpositive;
 } sph_trip_location;
 
 /* Find the particle behind a trip of `kind`: the first (lowest id) particle

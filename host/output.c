@@ -75,7 +75,7 @@ static const char *axis_name(int a) {
 }
 
 /* Most columns of timeseries.csv: the fixed ones and 3 per observer. */
-#define MAX_COLUMNS (12 + 3 * SPH_SCENE_MAX_OBSERVERS)
+#define MAX_COLUMNS (20 + 3 * SPH_SCENE_MAX_OBSERVERS)
 
 /* The header's column names.  They are written as they are, unquoted:
  * `sphsolid compare` and tools/plot_run.py split lines at commas, so no
@@ -106,6 +106,16 @@ static sph_status csv_columns(const sph_scene *scene, char names[][SPH_NAME_LEN 
     if (!fluid) {
         snprintf(names[n++], SPH_NAME_LEN + 24, "min_distance_ratio");
         snprintf(names[n++], SPH_NAME_LEN + 24, "zigzag_indicator");
+    }
+    /* fluids with forces: the coefficients (004 §4.3) and the force on the
+     * walls, pressure and viscous parts */
+    if (fluid && scene->has_forces) {
+        snprintf(names[n++], SPH_NAME_LEN + 24, "drag_coefficient");
+        snprintf(names[n++], SPH_NAME_LEN + 24, "lift_coefficient");
+        for (int a = 0; a < scene->dim; ++a)
+            snprintf(names[n++], SPH_NAME_LEN + 24, "pressure_force_%s", axis_name(a));
+        for (int a = 0; a < scene->dim; ++a)
+            snprintf(names[n++], SPH_NAME_LEN + 24, "viscous_force_%s", axis_name(a));
     }
     if (scene->nobservers < 0 || scene->nobservers > SPH_SCENE_MAX_OBSERVERS)
         return sph_fail(err, SPH_ERR_INPUT, "timeseries.csv: %d observers (at most %d)",
@@ -159,6 +169,8 @@ sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *sc
     out->dim = scene->dim;
     out->nobservers = scene->nobservers;
     out->fluid = SPH_FORMULATION_IS_EULERIAN(scene->formulation);
+    out->forces = out->fluid && scene->has_forces;
+    out->scene = scene;
     for (int c = 0; c < ncolumns; ++c) fprintf(out->csv, "%s%s", c ? "," : "", columns[c]);
     fputc('\n', out->csv);
     if (!stream_ok(out->csv, out->csv_partial))
@@ -187,6 +199,13 @@ sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
     else
         fprintf(f, ",%.12g,%.12g,%.12g", d->angular[0], d->angular[1], d->angular[2]);
     if (!out->fluid) fprintf(f, ",%.6g,%.6g", d->min_distance_ratio, d->zigzag);
+    if (out->forces) {
+        double cd, cl;
+        sph_force_coefficients(out->scene, d, &cd, &cl);
+        fprintf(f, ",%.12g,%.12g", cd, cl);
+        for (int a = 0; a < out->dim; ++a) fprintf(f, ",%.12g", d->wall_pressure_force[a]);
+        for (int a = 0; a < out->dim; ++a) fprintf(f, ",%.12g", d->wall_viscous_force[a]);
+    }
     for (int k = 0; k < out->nobservers * out->dim; ++k) fprintf(f, ",%.12g", observers[k]);
     fputc('\n', f);
     if (!stream_ok(f, out->csv_partial))

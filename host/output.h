@@ -22,7 +22,9 @@ typedef struct {
     char csv_partial[1100], csv_final[1100];
     FILE *csv;
     int dim, nobservers;
-    bool fluid; /* the fluid columns (internal energy, mass; no monitor columns) */
+    bool fluid;             /* the fluid columns (internal energy, mass; no monitor columns) */
+    bool forces;            /* fluids with `forces`: C_D, C_L and the wall forces */
+    const sph_scene *scene; /* the reference values of the coefficients */
 } sph_output;
 
 /* Create `dir` and its parents (exit-1 messages naming the path that could

@@ -30,6 +30,16 @@ typedef struct {
      * (bodies.X.initial_pressure); NULL in every other scene (the weakly
      * compressible pressure follows from rho by the EOS on the device) */
     double *pressure;
+    /* Fluid scenes with walls or a far field (NULL otherwise):
+     * kind[i] is SPH_PARTICLE_FLUID, _WALL (sph_constants.h) (a particle of a wall body),
+     * _INFLOW or _OUTFLOW (fluid within one cut-off 2h of a far-field face
+     * of the boundary box: outflow where U_inf . n > 0, else inflow, the
+     * public code's rule); normal[a * n + i] is a wall particle's unit
+     * normal into the fluid (the outward normal of its body's shape, from
+     * the shape's distance function) or a far-field particle's outward
+     * normal of its nearest face, 0 for the others. */
+    uint8_t *kind;
+    double *normal;
     int32_t *id;   /* [n] */
     uint8_t *body; /* [n]  index into scene->bodies */
     /* [n] 0: free; k + 1: constrained by entry k of the scene's constraint

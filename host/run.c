@@ -446,6 +446,20 @@ static json_object *summary_json(const sph_simulation *sim) {
         json_object_object_add(metrics, "max_observer_displacement",
                                num(m->max_observer_displacement));
     }
+    if (SPH_FORMULATION_IS_EULERIAN(sc->formulation)) {
+        /* fluids: conservation, and the forces on the walls over the
+         * trailing window (004 §4.3, Table 5) */
+        const sph_fluid_metrics *fm = &sim->fluid_metrics;
+        json_object_object_add(metrics, "max_mass_drift", num(fm->max_mass_drift));
+        json_object_object_add(metrics, "max_total_energy_drift", num(fm->max_total_energy_drift));
+        if (sc->has_forces) {
+            json_object_object_add(metrics, "mean_drag_coefficient",
+                                   num(fm->mean_drag_coefficient));
+            json_object_object_add(metrics, "lift_amplitude", num(fm->lift_amplitude));
+            json_object_object_add(metrics, "strouhal_number", num(fm->strouhal_number));
+            json_object_object_add(metrics, "force_window_start", num(fm->force_window_start));
+        }
+    }
     json_object_object_add(root, "metrics", metrics);
     /* the physical scales `sphsolid compare` measures quantities that are
      * zero in theory against (docs/output-format.md, "summary.json") */
@@ -599,6 +613,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
     sph_angular_momentum_conserved(&sim->scene, not_conserved, sizeof not_conserved);
     sph_metrics_compute(&sim->series, sim->scene.period_observer, sim->scene.period_axis, &initial,
                         not_conserved, &sim->metrics);
+    sph_fluid_metrics_compute(&sim->series, &sim->scene, &sim->fluid_metrics);
     if (outp) {
         /* a run the instability monitor stopped keeps its results, marked
          * "unstable" in summary.json */

@@ -70,6 +70,7 @@ typedef struct {
     sph_timeseries series;
     sph_run_stats stats;
     sph_metrics metrics;
+    sph_fluid_metrics fluid_metrics; /* fluid scenes (the eulerian formulations) */
     double setup_seconds;
     bool scene_loaded;
     double restart_time; /* NAN unless restarted */

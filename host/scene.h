@@ -167,10 +167,21 @@ typedef struct {
     char file[SPH_SCENE_PATH_LEN];
 } sph_relaxation;
 
+/* What a body is in a fluid scene (the eulerian formulations). */
+typedef enum {
+    SPH_BODY_MATTER = 0, /* the body's material moves (a solid, or the fluid) */
+    /* a rigid wall at rest: its particles (spacing_ratio dp apart, the public
+     * code's cylinder at dp/2) bound the fluid by the mirrored Riemann
+     * state and the no-slip viscous term (device/eulerian_step.cl) */
+    SPH_BODY_WALL = 1
+} sph_body_role;
+
 typedef struct {
     char name[SPH_NAME_LEN];
-    int material; /* index into materials */
-    int shape;    /* index into shapes */
+    int material;         /* index into materials */
+    sph_body_role role;   /* bodies.X.role: "matter" (default) or "wall" (fluid scenes) */
+    double spacing_ratio; /* bodies.X.spacing: its particle spacing / dp (1; walls 0.5) */
+    int shape;            /* index into shapes */
     sph_velocity_field velocity;
     sph_placement placement;
     sph_relaxation relaxation; /* placement == SPH_PLACEMENT_RELAXED */
@@ -288,6 +299,19 @@ typedef struct {
     int periodic_mask;
     double periodic_lower[3], periodic_upper[3];
     char periodic_where[SPH_SCENE_WHERE_LEN]; /* "<file>:<line>: boundary" */
+    /* `boundary.far_field`: on the faces of [periodic_lower, periodic_upper]
+     * (boundary.lower/upper) across the non-periodic axes, the fluid is
+     * blended toward the free stream (rho_inf, U_inf) after every step
+     * (004's far field; eulerian-sph-reference.md §4) */
+    bool has_far_field;
+    double far_field_density, far_field_velocity[3];
+    /* `forces`: the force on the wall bodies as drag and lift coefficients,
+     * C = 2 F / (rho_ref U_ref^2 L_ref) (004 §4.3), and the summary's
+     * mean drag, lift amplitude and Strouhal number over the trailing
+     * `window` of the run (0: the whole run after its first half) */
+    bool has_forces;
+    double force_reference_density, force_reference_speed, force_reference_length;
+    double force_window;
 
     /* snapshots: every `snapshot_every` output times (0: none) and at the end */
     double snapshot_interval;

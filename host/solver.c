@@ -86,7 +86,12 @@ static sph_status trip(const sph_solver_args *a, sph_trip_kind kind, double t, c
     snprintf(stats->instability_quantity, sizeof stats->instability_quantity, "%s", what);
 
     char quantity[160], place[256] = "";
-    if (kind == SPH_TRIP_NONFINITE)
+    if (kind == SPH_TRIP_NONFINITE && where.nonpositive)
+        sph_format(quantity, sizeof quantity,
+                   "a %s that is not positive (a smaller time.cfl_acoustic may carry a strong "
+                   "discontinuity)",
+                   where.field);
+    else if (kind == SPH_TRIP_NONFINITE)
         sph_format(quantity, sizeof quantity, "%s%s%s",
                    where.field[0] ? "non-finite values (NaN or Inf) in '"
                                   : "the energies overflowed (every field is finite), fastest",

@@ -1,5 +1,7 @@
 #include "work_estimate.h"
 
+#include "backend_cpu.h"
+
 #include "particles.h" /* sph_format_bytes: the memory messages' units */
 
 #include "sph_constants.h"
@@ -108,6 +110,15 @@ void sph_work_estimate_compute(const sph_scene *sc, const sph_particles *p,
         if (sc->materials[m].sound_speed > sc->materials[e->material].sound_speed) e->material = m;
     }
     e->sound_speed = sc->materials[e->material].sound_speed;
+    /* the compressible fluid's sound speed is each particle's own,
+     * sqrt(gamma p / rho) (device/sph_eulerian.h): its largest at the start */
+    if (sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE && p->pressure) {
+        const cpu_kernels *k = cpu_kernels_for(p->dim, true);
+        for (int i = 0; i < p->n; ++i)
+            e->sound_speed =
+                fmax(e->sound_speed, k->ideal_gas_sound_speed(p->pressure[i], p->rho[i],
+                                                              sc->materials[e->material].gamma));
+    }
     double v2 = 0.0;
     for (int i = 0; i < p->n; ++i) {
         double s = 0.0;
