@@ -3,6 +3,8 @@
 #include "particles.h"
 
 #include "relax.h"
+#include "shape_sdf.h"
+#include "sph_constants.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -76,6 +78,23 @@ static void index_range(double lo, double hi, double origin, double dp, long *fi
     *last = (long)floor((hi - origin) / dp - 0.5);
 }
 
+/* The particle spacing of body b: dp for matter, spacing_ratio dp for a
+ * wall body (scene.h; a scene filled by hand may leave the ratio 0: dp). */
+static double body_spacing(const sph_scene *scene, int b) {
+    const double ratio = scene->bodies[b].spacing_ratio;
+    return ratio > 0.0 && ratio <= 1.0 ? ratio * scene->dp : scene->dp;
+}
+
+static bool is_wall(const sph_scene *scene, int b) {
+    return scene->bodies[b].role == SPH_BODY_WALL;
+}
+
+static bool any_wall_body(const sph_scene *scene) {
+    for (int b = 0; b < scene->nbodies; b++)
+        if (is_wall(scene, b)) return true;
+    return false;
+}
+
 /* Are the points around x (a small step along every axis, both ways) in
  * both shapes?  A lattice point that two bodies share only because it lies
  * on a face where they touch is not; one inside a common volume is. */
@@ -102,7 +121,7 @@ static void set_point_data(const sph_scene *scene, int b, sph_particles *out, lo
     double v[3];
     sph_velocity_field_eval(scene, body, x, v);
     for (int a = 0; a < dim; a++) out->vel[(size_t)a * (size_t)out->n + (size_t)n] = v[a];
-    out->mass[n] = mat->density * pow(scene->dp, dim);
+    out->mass[n] = mat->density * pow(body_spacing(scene, b), dim);
     out->rho[n] = mat->density;
     if (out->fixed) {
         /* the first of the body's constraints whose region holds the
@@ -171,7 +190,7 @@ static sph_status relax_bodies(const sph_scene *scene, const double origin[3], b
                     "none of the relaxed ones, which keep dp/2 = %g inside the "
                     "body's surface; make the region reach deeper into the body",
                     body->where, k, scene->shapes[body->constraints[k].region].name, held[k],
-                    0.5 * scene->dp);
+                    0.5 * body_spacing(scene, b));
         start += count;
     }
     out->fixed_count = 0;
@@ -189,12 +208,17 @@ typedef struct {
  * and return their number.  With `out` NULL only counts, and stops with -1
  * at the first point inside the volume of an earlier body (`overlap`);
  * otherwise also writes them as particles start, start + 1, ...  A point on
- * a face two bodies share belongs to the earlier one. */
+ * a face two bodies share belongs to the earlier one.  Matter bodies share
+ * the scene's lattice (spacing dp) and wall bodies have their own, of
+ * spacing spacing_ratio dp anchored at the same origin: bodies of the two
+ * kinds are compared apart, and a matter point inside any wall body's
+ * shape is not placed (the wall takes that volume, without an overlap). */
 static long scan_body(const sph_scene *scene, int b, const double origin[3], sph_particles *out,
                       long start, overlap_info *overlap) {
     const int dim = scene->dim;
-    const double dp = scene->dp;
+    const double dp = body_spacing(scene, b);
     const sph_body *body = &scene->bodies[b];
+    const bool wall = is_wall(scene, b);
     double lo[3], hi[3];
     sph_shape_bounds(scene, body->shape, lo, hi);
     long first[3] = {0, 0, 0}, last[3] = {0, 0, 0};
@@ -209,7 +233,11 @@ static long scan_body(const sph_scene *scene, int b, const double origin[3], sph
                 for (int a = 0; a < dim; a++) x[a] = origin[a] + ((double)idx[a] + 0.5) * dp;
                 if (!sph_shape_contains(scene, body->shape, x)) continue;
                 bool taken = false;
+                for (int e = 0; !wall && e < scene->nbodies && !taken; e++)
+                    taken =
+                        is_wall(scene, e) && sph_shape_contains(scene, scene->bodies[e].shape, x);
                 for (int e = 0; e < b && !taken; e++) {
+                    if (is_wall(scene, e) != wall) continue;
                     taken = sph_shape_contains(scene, scene->bodies[e].shape, x);
                     if (taken && overlap &&
                         shared_volume(scene, body->shape, scene->bodies[e].shape, x)) {
@@ -306,7 +334,8 @@ static sph_status apply_velocity_expressions(const sph_scene *scene, sph_particl
 
 /* The initial state of the fluid bodies (the eulerian formulations): rho
  * from bodies.X.initial_density (else the material's rho0), the mass
- * rho w with the lattice volume w = dp^d (seed 004 eq. 14 carries w_i rho_i),
+ * rho w with the lattice volume w = dp^d (a wall body's (spacing_ratio
+ * dp)^d; seed 004 eq. 14 carries w_i rho_i),
  * and for the ideal gas the pressure from bodies.X.initial_pressure.  A value
  * that is not finite, a density <= 0 or a pressure <= 0 is an input error
  * naming the key and the particle. */
@@ -315,7 +344,6 @@ static sph_status apply_fluid_state(const sph_scene *scene, sph_particles *out, 
     const bool compressible = scene->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
     const int dim = scene->dim;
     const size_t n = (size_t)out->n;
-    const double volume = pow(scene->dp, dim);
     const char *vars[3], *names[SPH_SCENE_MAX_CONSTANTS];
     const int nvars = sph_scene_expression_variables(dim, vars);
     const sph_expression_constants constants = sph_scene_expression_constants(scene, names);
@@ -324,6 +352,8 @@ static sph_status apply_fluid_state(const sph_scene *scene, sph_particles *out, 
         const size_t count = (size_t)out->body_count[b];
         const sph_body *body = &scene->bodies[b];
         const sph_material *mat = &scene->materials[body->material];
+        /* the particle's volume: dp^d, a wall's (spacing_ratio dp)^d */
+        const double volume = pow(body_spacing(scene, b), dim);
         if (compressible && !body->initial_pressure[0])
             return sph_fail(err, SPH_ERR_INPUT,
                             "%s.initial_pressure: missing: the ideal gas of formulation "
@@ -383,11 +413,12 @@ static sph_status check_periodic_lattice(const sph_scene *scene, const sph_parti
     if (!scene->periodic_mask) return SPH_OK;
     const int dim = scene->dim;
     const size_t n = (size_t)p->n;
-    const double dp = scene->dp;
     for (int a = 0; a < dim; a++) {
         if (!(scene->periodic_mask & (1 << a))) continue;
         const double lo = scene->periodic_lower[a], hi = scene->periodic_upper[a];
         for (size_t i = 0; i < n; i++) {
+            /* a wall body's particles: on its own lattice, spacing_ratio dp */
+            const double dp = body_spacing(scene, p->body[i]);
             const double xa = p->pos[(size_t)a * n + i];
             const double s = (xa - lo) / dp - 0.5, off = s - round(s);
             const bool inside = xa >= lo && xa < hi;
@@ -416,6 +447,92 @@ static sph_status check_periodic_lattice(const sph_scene *scene, const sph_parti
         }
     }
     return SPH_OK;
+}
+
+/* A far-field scene (boundary.far_field): the far field acts on the faces
+ * of the box [boundary.lower, boundary.upper], so every matter particle must
+ * lie inside it (a wall body may reach beyond it). */
+static sph_status check_far_field_box(const sph_scene *scene, const sph_particles *p,
+                                      sph_error *err) {
+    if (!scene->has_far_field) return SPH_OK;
+    const int dim = scene->dim;
+    const size_t n = (size_t)p->n;
+    const double *lower = scene->periodic_lower, *upper = scene->periodic_upper;
+    for (size_t i = 0; i < n; i++) {
+        if (is_wall(scene, p->body[i])) continue;
+        bool in = true;
+        for (int a = 0; a < dim; a++) {
+            const double x = p->pos[(size_t)a * n + i];
+            in = in && x >= lower[a] && x <= upper[a];
+        }
+        if (in) continue;
+        double x[3] = {0, 0, 0};
+        for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + i];
+        char point[96], box[200];
+        format_point(x, dim, point, sizeof point);
+        format_span(lower, upper, dim, box, sizeof box);
+        const sph_body *body = &scene->bodies[p->body[i]];
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "%s: the particle at %s of body '%s' (%s) lies outside the far field's "
+                        "box boundary.lower to boundary.upper, %s; every matter body must lie "
+                        "within it (the far field acts on its faces)",
+                        scene->periodic_where, point, body->name, body->where, box);
+    }
+    return SPH_OK;
+}
+
+/* Scenes with wall bodies or a far field: each particle's kind and normal
+ * (particles.h).  A wall particle's normal is the outward normal of its
+ * body's shape at it (the gradient of the signed distance, shape_sdf.h:
+ * out of the wall, into the fluid).  A fluid particle within one cut-off
+ * 2h of a far-field face (a face of the boundary box across an axis that is
+ * not periodic) takes that face's outward normal n, the nearest face's
+ * (ties: the first axis, the lower face), and is outflow where
+ * U_inf . n > 0, else inflow (the public code's rule: the left, top and
+ * bottom of a flow along x are inflow). */
+static void assign_kinds(const sph_scene *scene, sph_particles *p) {
+    if (!p->kind) return;
+    const int dim = scene->dim;
+    const size_t n = (size_t)p->n;
+    const double cutoff = 2.0 * scene->smoothing_ratio * scene->dp;
+    for (size_t i = 0; i < n; i++) {
+        double x[3] = {0, 0, 0}, normal[3] = {0, 0, 0};
+        for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + i];
+        const int b = p->body[i];
+        uint8_t kind = SPH_PARTICLE_FLUID;
+        if (is_wall(scene, b)) {
+            kind = SPH_PARTICLE_WALL;
+            sph_shape_sdf(scene, scene->bodies[b].shape, x, normal);
+            double norm = 0.0;
+            for (int a = 0; a < dim; a++) norm += normal[a] * normal[a];
+            norm = sqrt(norm);
+            /* 2D: the shape's normal has no z part; keep it a unit vector
+             * (x where the distance function gives none) */
+            for (int a = 0; a < dim; a++)
+                normal[a] = norm > 0.0 ? normal[a] / norm : (a == 0 ? 1.0 : 0.0);
+        } else if (scene->has_far_field) {
+            /* distances equal to rounding (a corner's diagonal) are ties */
+            const double tie = 1e-9 * scene->dp;
+            double nearest = INFINITY;
+            int face_axis = -1, face_side = 0;
+            for (int a = 0; a < dim; a++) {
+                if (scene->periodic_mask & (1 << a)) continue;
+                for (int side = -1; side <= 1; side += 2) {
+                    const double d = side < 0 ? x[a] - scene->periodic_lower[a]
+                                              : scene->periodic_upper[a] - x[a];
+                    if (d < cutoff && d < nearest - tie)
+                        nearest = d, face_axis = a, face_side = side;
+                }
+            }
+            if (face_axis >= 0) {
+                normal[face_axis] = (double)face_side;
+                const double un = scene->far_field_velocity[face_axis] * face_side;
+                kind = un > 0.0 ? SPH_PARTICLE_OUTFLOW : SPH_PARTICLE_INFLOW;
+            }
+        }
+        p->kind[i] = kind;
+        for (int a = 0; a < dim; a++) p->normal[(size_t)a * n + i] = normal[a];
+    }
 }
 
 /* The bounding box of body b's particles [start, start + count). */
@@ -601,19 +718,24 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     const int dim = scene->dim;
     out->dim = dim;
 
-    /* lattice origin: the lower corner of all bodies unless the scene sets
-     * it; along a periodic axis boundary.lower, so that a body filling the
+    /* lattice origin: the lower corner of all matter bodies unless the scene
+     * sets it; along a periodic axis boundary.lower, so that a body filling the
      * period holds L/dp particles and the lattice continues across the seam
      * (check_periodic_lattice) */
     double origin[3] = {0, 0, 0};
     if (scene->has_lattice_origin) {
         for (int a = 0; a < dim; a++) origin[a] = scene->lattice_origin[a];
     } else {
+        /* the matter bodies' corner: a wall body (on its own lattice from
+         * the same origin) does not move the fluid's lattice */
+        bool first = true;
         for (int b = 0; b < scene->nbodies; b++) {
+            if (is_wall(scene, b)) continue;
             double lo[3], hi[3];
             sph_shape_bounds(scene, scene->bodies[b].shape, lo, hi);
             for (int a = 0; a < dim; a++)
-                if (b == 0 || lo[a] < origin[a]) origin[a] = lo[a];
+                if (first || lo[a] < origin[a]) origin[a] = lo[a];
+            first = false;
         }
         for (int a = 0; a < dim; a++)
             if (scene->periodic_mask & (1 << a)) origin[a] = scene->periodic_lower[a];
@@ -623,8 +745,14 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     for (int b = 0; b < scene->nbodies; b++) any_constraint |= scene->bodies[b].nconstraints > 0;
     /* the ideal gas's initial pressure: one more double a particle */
     const bool with_pressure = scene->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
-    const double each = (double)sph_particles_bytes_each(dim, any_constraint) +
-                        (with_pressure ? (double)sizeof(double) : 0.0);
+    /* fluid scenes with wall bodies or a far field: each particle's kind and
+     * normal (assign_kinds) */
+    const bool with_kinds = SPH_FORMULATION_IS_EULERIAN(scene->formulation) &&
+                            (scene->has_far_field || any_wall_body(scene));
+    const double each =
+        (double)sph_particles_bytes_each(dim, any_constraint) +
+        (with_pressure ? (double)sizeof(double) : 0.0) +
+        (with_kinds ? (double)(sizeof(uint8_t) + (size_t)dim * sizeof(double)) : 0.0);
     char available[256], need[32];
 
     /* guard the scan itself: a tiny dp in a large box would loop for ages,
@@ -632,8 +760,10 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     long total = 0;
     for (int b = 0; b < scene->nbodies; b++) {
         double lo[3], hi[3], points = 1.0;
+        /* a wall body's lattice: spacing_ratio dp */
+        const double spacing = body_spacing(scene, b);
         sph_shape_bounds(scene, scene->bodies[b].shape, lo, hi);
-        for (int a = 0; a < dim; a++) points *= (hi[a] - lo[a]) / scene->dp + 1.0;
+        for (int a = 0; a < dim; a++) points *= (hi[a] - lo[a]) / spacing + 1.0;
         if (!(points <= (double)INT32_MAX)) {
             const double limit = sph_host_memory_available(available, sizeof available);
             sph_format_bytes(points * each, need, sizeof need);
@@ -642,22 +772,22 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
                                 "%s: at dp = %g the shape of body '%s' spans about %.3g lattice "
                                 "points, and that many particles need at least %s of memory for "
                                 "their initial arrays alone, but %s; lower the resolution",
-                                scene->path, scene->dp, scene->bodies[b].name, points, need,
+                                scene->path, spacing, scene->bodies[b].name, points, need,
                                 available);
             return sph_fail(err, SPH_ERR_RUNTIME,
                             "%s: at dp = %g the shape of body '%s' spans about %.3g lattice "
                             "points, more particles than this program can index (%d); lower the "
                             "resolution",
-                            scene->path, scene->dp, scene->bodies[b].name, points, INT32_MAX);
+                            scene->path, spacing, scene->bodies[b].name, points, INT32_MAX);
         }
         /* lattice indices are counted from the origin and must fit a long */
         for (int a = 0; a < dim; a++) {
-            double cells = fmax(fabs(lo[a] - origin[a]), fabs(hi[a] - origin[a])) / scene->dp;
+            double cells = fmax(fabs(lo[a] - origin[a]), fabs(hi[a] - origin[a])) / spacing;
             if (!(cells <= 1e15))
                 return sph_fail(err, SPH_ERR_INPUT,
                                 "%s: the shape lies about %.3g spacings (dp = %g) from the "
                                 "lattice origin along %c, too far to place particles",
-                                scene->bodies[b].where, cells, scene->dp, "xyz"[a]);
+                                scene->bodies[b].where, cells, spacing, "xyz"[a]);
         }
     }
     for (int b = 0; b < scene->nbodies; b++) {
@@ -675,10 +805,13 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
         }
         if (count == 0)
             return sph_fail(err, SPH_ERR_INPUT,
-                            "%s: the body has no particles: no lattice point (spacing dp = %g) "
-                            "of its shape '%s' is free of earlier bodies",
-                            scene->bodies[b].where, scene->dp,
-                            scene->shapes[scene->bodies[b].shape].name);
+                            "%s: the body has no particles: no lattice point (spacing %s = %g) "
+                            "of its shape '%s' is free of earlier bodies%s",
+                            scene->bodies[b].where, is_wall(scene, b) ? "spacing * dp" : "dp",
+                            body_spacing(scene, b), scene->shapes[scene->bodies[b].shape].name,
+                            with_kinds && !is_wall(scene, b) && any_wall_body(scene)
+                                ? " and outside the wall bodies"
+                                : "");
         out->body_count[b] = (int)count;
         total += count;
         if (total > INT32_MAX)
@@ -707,8 +840,13 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     out->body = malloc(n * sizeof *out->body);
     if (any_constraint) out->fixed = malloc(n * sizeof *out->fixed);
     if (with_pressure) out->pressure = calloc(n, sizeof *out->pressure);
+    if (with_kinds) {
+        out->kind = calloc(n, sizeof *out->kind);
+        out->normal = calloc((size_t)dim * n, sizeof *out->normal);
+    }
     if (!out->pos || !out->vel || !out->mass || !out->rho || !out->id || !out->body ||
-        (any_constraint && !out->fixed) || (with_pressure && !out->pressure)) {
+        (any_constraint && !out->fixed) || (with_pressure && !out->pressure) ||
+        (with_kinds && (!out->kind || !out->normal))) {
         sph_particles_free(out);
         sph_format_bytes((double)total * each, need, sizeof need);
         return sph_fail(err, SPH_ERR_RUNTIME, "out of memory allocating %zu particles (%s); %s", n,
@@ -724,7 +862,9 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     if (!rst) rst = apply_velocity_expressions(scene, out, err);
     if (!rst) rst = apply_fluid_state(scene, out, err);
     if (!rst) rst = check_periodic_lattice(scene, out, err);
+    if (!rst) rst = check_far_field_box(scene, out, err);
     if (!rst) rst = check_monitor_domain(scene, out, err);
+    if (!rst) assign_kinds(scene, out);
     if (rst) {
         sph_particles_free(out);
         return rst;
@@ -812,5 +952,7 @@ void sph_particles_free(sph_particles *p) {
     free(p->id);
     free(p->body);
     free(p->fixed);
+    free(p->kind);
+    free(p->normal);
     memset(p, 0, sizeof *p);
 }

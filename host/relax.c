@@ -255,6 +255,14 @@ static void boundary_term(const relax_state *s, const double x[3], double b[3]) 
             }
 }
 
+/* The body's particle spacing: dp, or a wall body's spacing_ratio dp (its
+ * own lattice, scene.h), at which it relaxes: its volumes, smoothing length
+ * and surface offset all follow from it. */
+static double body_spacing(const sph_scene *scene, int body) {
+    const double ratio = scene->bodies[body].spacing_ratio;
+    return ratio > 0.0 && ratio <= 1.0 ? ratio * scene->dp : scene->dp;
+}
+
 static sph_status state_init(relax_state *s, const sph_scene *scene, int body, int n,
                              sph_error *err) {
     memset(s, 0, sizeof *s);
@@ -262,10 +270,10 @@ static sph_status state_init(relax_state *s, const sph_scene *scene, int body, i
     s->dim = scene->dim;
     s->n = n;
     s->shape = scene->bodies[body].shape;
-    s->dp = scene->dp;
-    s->h = scene->smoothing_ratio * scene->dp;
+    s->dp = body_spacing(scene, body);
+    s->h = scene->smoothing_ratio * s->dp;
     s->cutoff = 2.0 * s->h;
-    s->volume = pow(scene->dp, scene->dim);
+    s->volume = pow(s->dp, scene->dim);
     kernel_prm(scene->kernel, s->h, s->prm);
     s->k = cpu_kernels_for(scene->dim, true);
     const size_t un = (size_t)(n > 0 ? n : 1);
@@ -547,7 +555,8 @@ static bool read_matching(const sph_scene *scene, int body, const double origin[
             FILE_VERSION);
     DIFFERS(dimension != scene->dim, "dimension differs (file %" PRId64 ", scene %d)", dimension,
             scene->dim);
-    DIFFERS(dp != scene->dp, "dp differs (file %.17g, scene %.17g)", dp, scene->dp);
+    DIFFERS(dp != body_spacing(scene, body), "dp differs (file %.17g, scene %.17g)", dp,
+            body_spacing(scene, body));
     DIFFERS(ratio != scene->smoothing_ratio, "smoothing ratio differs (file %.17g, scene %.17g)",
             ratio, scene->smoothing_ratio);
     DIFFERS(strcmp(kernel, sph_kernel_name(scene->kernel)) != 0,
@@ -639,7 +648,7 @@ static sph_status write_file(const sph_scene *scene, int body, const double orig
     if (!st) st = sph_h5_attr_int64s(&w, root, "version", &version, 1, err);
     if (!st) st = sph_h5_attr_int64s(&w, root, "dimension", &dimension, 1, err);
     if (!st) st = sph_h5_attr_int64s(&w, root, "particle_count", &count, 1, err);
-    if (!st) st = sph_h5_attr_double(&w, root, "dp", scene->dp, err);
+    if (!st) st = sph_h5_attr_double(&w, root, "dp", body_spacing(scene, body), err);
     if (!st) st = sph_h5_attr_double(&w, root, "smoothing_ratio", scene->smoothing_ratio, err);
     if (!st) st = sph_h5_attr_string(&w, root, "kernel", sph_kernel_name(scene->kernel), err);
     if (!st) st = sph_h5_attr_int64s(&w, root, "seed", &seed, 1, err);

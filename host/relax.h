@@ -27,6 +27,10 @@
  * The residual of particle i is |sum_j grad_i W_ij V_j + B(x_i)| h
  * (dimensionless; 0 for a perfectly consistent distribution).
  *
+ * Throughout, dp is the body's own particle spacing: the scene's dp, or a
+ * wall body's spacing_ratio dp (scene.h, bodies.X.spacing), and h is
+ * smoothing_ratio times it; the saved file's "dp" attribute is that spacing.
+ *
  * Relaxed positions are saved to and reused from an HDF5 file
  * (bodies[i].relaxation.file): dataset "position" [n][dim] and attributes
  * naming what it belongs to (docs/scene-format.md, "Relaxed placement").

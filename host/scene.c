@@ -867,9 +867,16 @@ static sph_status apply_override(loader *L, config_t *cfg, const char *ov) {
         snprintf(walked + wl, sizeof walked - wl, "%s%s", wl ? "." : "", comp);
         /* optional groups a scene may leave out are created on demand, so
          * that e.g. --set output.snapshot_interval=0 works on any scene */
-        static const char *const optional_groups[] = {
-            "output",  "analysis",       "analysis.period",          "monitor",
-            "contact", "monitor.domain", "method.artificial_stress", "boundary"};
+        static const char *const optional_groups[] = {"output",
+                                                      "analysis",
+                                                      "analysis.period",
+                                                      "monitor",
+                                                      "contact",
+                                                      "monitor.domain",
+                                                      "method.artificial_stress",
+                                                      "boundary",
+                                                      "boundary.far_field",
+                                                      "forces"};
         for (size_t g = 0; !child && config_setting_is_group(parent) &&
                            g < sizeof optional_groups / sizeof optional_groups[0];
              ++g)
@@ -1988,6 +1995,53 @@ static sph_status parse_fluid_state(loader *L, const config_setting_t *b, sph_bo
     return SPH_OK;
 }
 
+/* bodies[i].role and bodies[i].spacing (fluid scenes): a body is matter
+ * (the fluid, placed on the scene's lattice) or a rigid wall at rest, the
+ * public code's cylinder, whose particles sit spacing * dp apart (default
+ * dp/2, its adaptation ratio 2; seed 004 section 4.3). */
+static sph_status parse_role(loader *L, const config_setting_t *b, sph_body *body) {
+    const sph_scene *sc = L->scene;
+    const sph_formulation f = sc->formulation;
+    const config_setting_t *role_at = NULL, *spacing_at = config_setting_get_member(b, "spacing");
+    int role = SPH_BODY_MATTER;
+    sph_status st =
+        get_keyword(L, b, "role", false, SPH_BODY_MATTER, KEYS("matter", "wall"), &role, &role_at);
+    if (st) return st;
+    body->role = (sph_body_role)role;
+    body->spacing_ratio = 1.0;
+    if (!SPH_FORMULATION_IS_EULERIAN(f)) {
+        const config_setting_t *at = role_at ? role_at : spacing_at;
+        if (at)
+            return fail_at(L, at, NULL,
+                           "is for the bodies of fluid scenes (formulations \"eulerian-wc\" and "
+                           "\"eulerian-compressible\"): a body there is matter or a wall; "
+                           "formulation \"%s\" places every body on the scene's lattice, and "
+                           "its rigid walls are the `walls` planes",
+                           sph_formulation_name(f));
+        return SPH_OK;
+    }
+    if (body->role == SPH_BODY_WALL && f == SPH_FORMULATION_EULERIAN_COMPRESSIBLE)
+        return fail_at(L, role_at, NULL,
+                       "walls of the compressible formulation are not built yet (formulation "
+                       "\"eulerian-compressible\"); wall bodies are implemented for "
+                       "\"eulerian-wc\"");
+    const bool wall = body->role == SPH_BODY_WALL;
+    body->spacing_ratio = wall ? 0.5 : 1.0;
+    if (!spacing_at) return SPH_OK;
+    double ratio = 0.0;
+    if ((st = as_float(L, spacing_at, &ratio))) return st;
+    if (!(ratio > 0.0 && ratio <= 1.0))
+        return fail_at(L, spacing_at, NULL,
+                       "the body's particle spacing over dp must be in (0, 1], got %g", ratio);
+    if (!wall && ratio != 1.0)
+        return fail_at(L, spacing_at, NULL,
+                       "a matter body is placed on the scene's lattice (spacing 1, dp apart); "
+                       "other spacings are for wall bodies (role = \"wall\") for now, got %g",
+                       ratio);
+    body->spacing_ratio = ratio;
+    return SPH_OK;
+}
+
 static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     sph_scene *sc = L->scene;
     sph_body *body = &sc->bodies[index];
@@ -1996,20 +2050,28 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     sph_status st = named_group_element(
         L, b, index, "a body group { name; material; shape; }", "body", "bodies",
         KEYS("name", "material", "shape", "initial_velocity", "constraints", "placement",
-             "relaxation", "initial_density", "initial_pressure"),
+             "relaxation", "initial_density", "initial_pressure", "role", "spacing"),
         sc->bodies[0].name, sizeof sc->bodies[0], &name, &at);
     if (st) return st;
     snprintf(body->name, sizeof body->name, "%s", name);
     where_of(L, b, body->where, sizeof body->where);
+    if ((st = parse_role(L, b, body))) return st;
+    const bool wall = body->role == SPH_BODY_WALL;
 
-    if ((st = get_name(L, b, "material", &material, &at))) return st;
-    body->material = find_material(sc, material);
-    if (body->material < 0) {
-        const char *names[SPH_MAX_MATERIALS];
-        for (int i = 0; i < sc->nmaterials; i++) names[i] = sc->materials[i].name;
-        char hint[1024];
-        suggest(material, names, sc->nmaterials, "defined materials", hint, sizeof hint);
-        return fail_at(L, at, NULL, "unknown material '%s'%s", material, hint);
+    /* a wall body takes the scene's one fluid material when it names none */
+    if ((st = get_member(L, b, "material", !wall, &at))) return st;
+    if (at) {
+        if ((st = get_name(L, b, "material", &material, &at))) return st;
+        body->material = find_material(sc, material);
+        if (body->material < 0) {
+            const char *names[SPH_MAX_MATERIALS];
+            for (int i = 0; i < sc->nmaterials; i++) names[i] = sc->materials[i].name;
+            char hint[1024];
+            suggest(material, names, sc->nmaterials, "defined materials", hint, sizeof hint);
+            return fail_at(L, at, NULL, "unknown material '%s'%s", material, hint);
+        }
+    } else {
+        body->material = 0;
     }
 
     if ((st = get_name(L, b, "shape", &shape, &at))) return st;
@@ -2018,10 +2080,27 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
 
     memset(&body->velocity, 0, sizeof body->velocity);
     body->velocity.type = SPH_VELOCITY_ZERO;
+    /* a wall is at rest, in the fluid's reference state */
+    static const char *const moving[] = {"initial_velocity", "initial_density", "initial_pressure",
+                                         "constraints"};
+    for (size_t k = 0; wall && k < sizeof moving / sizeof moving[0]; ++k) {
+        const config_setting_t *s = config_setting_get_member(b, moving[k]);
+        if (s)
+            return fail_at(L, s, NULL,
+                           "body '%s' is a wall (role = \"wall\"): a wall is at rest in the "
+                           "fluid's reference state (the material's density), so it takes no "
+                           "initial state or constraints",
+                           name);
+    }
     if ((st = get_group(L, b, "initial_velocity", false, &vel))) return st;
     if (vel && (st = parse_velocity(L, vel, &body->velocity))) return st;
 
-    if ((st = parse_placement(L, b, body)) || (st = parse_fluid_state(L, b, body))) return st;
+    if ((st = parse_placement(L, b, body))) return st;
+    if (!wall && (st = parse_fluid_state(L, b, body))) return st;
+    if (wall) {
+        body->initial_density[0] = body->initial_density_where[0] = '\0';
+        body->initial_pressure[0] = body->initial_pressure_where[0] = '\0';
+    }
 
     body->nconstraints = 0;
     if ((st = get_list(L, b, "constraints", false, &cons))) return st;
@@ -2086,7 +2165,30 @@ static sph_status parse_bodies(loader *L, const config_setting_t *root) {
         return fail_at(L, list, NULL, "expected 1 to %d bodies, got %d", SPH_MAX_BODIES, n);
     for (int i = 0; i < n; i++)
         if ((st = parse_body(L, config_setting_get_elem(list, (unsigned)i), i))) return st;
-    L->scene->nbodies = n;
+    sph_scene *sc = L->scene;
+    sc->nbodies = n;
+    int matter = 0, walls = 0;
+    for (int i = 0; i < n; i++) {
+        matter += sc->bodies[i].role == SPH_BODY_MATTER;
+        walls += sc->bodies[i].role == SPH_BODY_WALL;
+    }
+    if (matter == 0)
+        return fail_at(L, list, NULL,
+                       "every body is a wall (role = \"wall\"): a fluid scene needs at least "
+                       "one matter body (role = \"matter\", the default), the fluid");
+    /* the relaxation (relax.h) moves a body's particles within its own
+     * shape and knows nothing of the walls inside it */
+    for (int i = 0; walls > 0 && i < n; i++) {
+        if (sc->bodies[i].role != SPH_BODY_MATTER ||
+            sc->bodies[i].placement != SPH_PLACEMENT_RELAXED)
+            continue;
+        const config_setting_t *e = config_setting_get_elem(list, (unsigned)i);
+        return fail_at(L, config_setting_get_member(e, "placement"), NULL,
+                       "a relaxed placement of a matter body is not supported with wall bodies "
+                       "yet: the relaxation keeps the particles within the body's own shape and "
+                       "does not see the walls; place the body on the lattice (a wall body may "
+                       "be relaxed)");
+    }
     return SPH_OK;
 }
 
@@ -2309,7 +2411,8 @@ static sph_status parse_walls(loader *L, const config_setting_t *root) {
     if (n > 0 && SPH_FORMULATION_IS_EULERIAN(sc->formulation))
         return fail_at(L, list, NULL,
                        "walls are not supported for the eulerian formulations yet (formulation "
-                       "\"%s\"); a fluid scene is bounded by its periodic boundary or open",
+                       "\"%s\"); a fluid scene is bounded by its periodic boundary, a far "
+                       "field (boundary.far_field) or wall bodies (bodies.X.role = \"wall\")",
                        sph_formulation_name(sc->formulation));
     for (int i = 0; i < n; i++) {
         const config_setting_t *w = config_setting_get_elem(list, (unsigned)i), *at;
@@ -2375,26 +2478,61 @@ static sph_status parse_contact(loader *L, const config_setting_t *root) {
     return SPH_OK;
 }
 
-/* boundary = { periodic = ["x", ...]; lower = [...]; upper = [...]; }: the
- * fluid wraps around along the periodic axes with the period upper - lower
- * (the seed's Taylor-Green vortex, seed 004 §4.2; the Shu-Osher strip's
- * y).  The period must hold a whole number of spacings, so that the lattice
- * continues across the seam dp apart (particles.c anchors it at lower and
- * checks every particle), and at least two cut-off radii, so that no pair
- * meets through two images at once. */
+/* boundary = { periodic = ["x", ...]; far_field = { density; velocity; };
+ *              lower = [...]; upper = [...]; }
+ * The fluid wraps around along the periodic axes with the period upper -
+ * lower (the seed's Taylor-Green vortex, seed 004 §4.2; the Shu-Osher
+ * strip's y).  The period must hold a whole number of spacings, so that the
+ * lattice continues across the seam dp apart (particles.c anchors it at
+ * lower and checks every particle), and at least two cut-off radii, so that
+ * no pair meets through two images at once.  The far field (seed 004 §4.3,
+ * the public code's NonReflectiveBoundaryCorrection) acts on the faces of
+ * the box [lower, upper] across every axis that is not periodic: the fluid
+ * there is blended toward the free stream (density, velocity). */
+static sph_status parse_far_field(loader *L, const config_setting_t *ff) {
+    sph_scene *sc = L->scene;
+    if (sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE)
+        return fail_at(L, ff, NULL,
+                       "the far field of the compressible formulation is not built yet "
+                       "(formulation \"eulerian-compressible\"); it is implemented for "
+                       "\"eulerian-wc\"");
+    sph_status st;
+    if ((st = check_keys(L, ff, KEYS("density", "velocity"))) ||
+        (st = get_float(L, ff, "density", false, sc->materials[0].density, 0, true, INFINITY, false,
+                        &sc->far_field_density)) ||
+        (st = get_vector(L, ff, "velocity", true, sc->dim, sc->far_field_velocity, NULL)))
+        return st;
+    sc->has_far_field = true;
+    return SPH_OK;
+}
+
 static sph_status parse_boundary(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
-    const config_setting_t *g, *upper_at;
+    const config_setting_t *g, *upper_at, *ff = NULL;
     sph_status st = get_group(L, root, "boundary", false, &g);
     if (st || !g) return st;
-    if (!SPH_FORMULATION_IS_EULERIAN(sc->formulation))
+    if (!SPH_FORMULATION_IS_EULERIAN(sc->formulation)) {
+        if (!config_setting_get_member(g, "periodic") && config_setting_get_member(g, "far_field"))
+            return fail_at(L, g, NULL,
+                           "a far field is implemented for the eulerian formulations "
+                           "(\"eulerian-wc\"), got formulation \"%s\"",
+                           sph_formulation_name(sc->formulation));
         return fail_at(L, g, NULL,
                        "periodic boundaries are implemented for the eulerian formulations "
                        "(\"eulerian-wc\", \"eulerian-compressible\"), got formulation \"%s\"",
                        sph_formulation_name(sc->formulation));
+    }
     int mask = 0;
-    if ((st = check_keys(L, g, KEYS("periodic", "lower", "upper"))) ||
-        (st = parse_axis_list(L, g, "periodic", true, &mask)) ||
+    if ((st = check_keys(L, g, KEYS("periodic", "far_field", "lower", "upper"))) ||
+        (st = get_group(L, g, "far_field", false, &ff)))
+        return st;
+    if (ff && (st = parse_far_field(L, ff))) return st;
+    /* without a far field the group is there for its periodic axes */
+    if (!ff && !config_setting_get_member(g, "periodic"))
+        return fail_at(L, g, "periodic",
+                       "missing required key: a boundary has periodic axes (periodic), a far "
+                       "field (far_field) or both");
+    if ((st = parse_axis_list(L, g, "periodic", false, &mask)) ||
         (st = get_vector(L, g, "lower", true, sc->dim, sc->periodic_lower, NULL)) ||
         (st = get_vector(L, g, "upper", true, sc->dim, sc->periodic_upper, &upper_at)))
         return st;
@@ -2402,8 +2540,15 @@ static sph_status parse_boundary(loader *L, const config_setting_t *root) {
     /* the cut-off radius 2h = 2 smoothing_ratio dp */
     const double cutoff_dp = 2.0 * sc->smoothing_ratio;
     for (int a = 0; a < sc->dim; ++a) {
-        if (!(mask & (1 << a))) continue;
         const double lo = sc->periodic_lower[a], hi = sc->periodic_upper[a];
+        if (!(mask & (1 << a))) {
+            if (ff && !(hi > lo))
+                return fail_at(L, upper_at, NULL,
+                               "must exceed lower along %s (the far field's box [lower, upper]), "
+                               "got upper = %g, lower = %g",
+                               AXES[a], hi, lo);
+            continue;
+        }
         if (!(hi > lo))
             return fail_at(L, upper_at, NULL,
                            "must exceed lower along the periodic axis %s, got upper = %g, "
@@ -2421,9 +2566,14 @@ static sph_status parse_boundary(loader *L, const config_setting_t *root) {
                            "dp = %g): a particle would meet a neighbour through two images",
                            AXES[a], period, cutoff_dp, 2.0 * cutoff_dp * dp);
     }
+    if (ff && mask == (1 << sc->dim) - 1)
+        return fail_at(L, ff, NULL,
+                       "the far field acts on the faces across the axes that are not periodic, "
+                       "and every axis is periodic: remove one from boundary.periodic or the "
+                       "far field");
     /* the relaxation (relax.h) knows nothing of the images */
     const config_setting_t *bodies = config_setting_get_member(root, "bodies");
-    for (int b = 0; b < sc->nbodies; ++b) {
+    for (int b = 0; mask && b < sc->nbodies; ++b) {
         if (sc->bodies[b].placement != SPH_PLACEMENT_RELAXED) continue;
         const config_setting_t *e = config_setting_get_elem(bodies, (unsigned)b);
         const config_setting_t *at = e ? config_setting_get_member(e, "placement") : NULL;
@@ -2437,6 +2587,63 @@ static sph_status parse_boundary(loader *L, const config_setting_t *root) {
      * override of its own: name the override of upper */
     const bool located = override_of(g) || config_setting_source_line(g) > 0;
     where_of(L, located ? g : upper_at, sc->periodic_where, sizeof sc->periodic_where);
+    return SPH_OK;
+}
+
+/* forces = { reference_density; reference_speed; reference_length; window; }:
+ * the force on the wall bodies as drag and lift coefficients
+ * C = 2 F / (rho_ref U_ref^2 L_ref) (seed 004 §4.3, Table 5), and their
+ * mean, amplitude and Strouhal number over the trailing window. */
+static sph_status parse_forces(loader *L, const config_setting_t *root) {
+    sph_scene *sc = L->scene;
+    const config_setting_t *g;
+    sph_status st = get_group(L, root, "forces", false, &g);
+    if (st || !g) return st;
+    if (!SPH_FORMULATION_IS_EULERIAN(sc->formulation))
+        return fail_at(L, g, NULL,
+                       "is for the wall bodies of fluid scenes (formulation \"eulerian-wc\"), "
+                       "got formulation \"%s\"",
+                       sph_formulation_name(sc->formulation));
+    int walls = 0;
+    for (int b = 0; b < sc->nbodies; ++b) walls += sc->bodies[b].role == SPH_BODY_WALL;
+    if (walls == 0)
+        return fail_at(L, g, NULL,
+                       "the forces are those the fluid exerts on the wall bodies, and the scene "
+                       "has none: give a body role = \"wall\" (the cylinder) or remove the "
+                       "group");
+    const double speed = sqrt(sc->far_field_velocity[0] * sc->far_field_velocity[0] +
+                              sc->far_field_velocity[1] * sc->far_field_velocity[1] +
+                              sc->far_field_velocity[2] * sc->far_field_velocity[2]);
+    const double rho_default = sc->has_far_field ? sc->far_field_density : sc->materials[0].density;
+    if ((st = check_keys(
+             L, g, KEYS("reference_density", "reference_speed", "reference_length", "window"))) ||
+        (st = get_float(L, g, "reference_density", false, rho_default, 0, true, INFINITY, false,
+                        &sc->force_reference_density)))
+        return st;
+    const bool speed_given = config_setting_get_member(g, "reference_speed") != NULL;
+    if (!speed_given && !(sc->has_far_field && speed > 0.0))
+        return fail_at(L, g, "reference_speed", "missing required key: %s",
+                       sc->has_far_field ? "the far field's velocity is 0, so it cannot be the "
+                                           "default reference speed"
+                                         : "without a far field there is no free-stream speed "
+                                           "to take as the default");
+    if ((st = get_float(L, g, "reference_speed", false, speed, 0, true, INFINITY, false,
+                        &sc->force_reference_speed)) ||
+        (st = get_float(L, g, "reference_length", true, 0, 0, true, INFINITY, false,
+                        &sc->force_reference_length)) ||
+        (st = get_float(L, g, "window", false, 0.0, 0, false, INFINITY, false, &sc->force_window)))
+        return st;
+    if (!isfinite(sc->force_reference_density * sc->force_reference_speed *
+                  sc->force_reference_speed * sc->force_reference_length) ||
+        !(sc->force_reference_density * sc->force_reference_speed * sc->force_reference_speed *
+              sc->force_reference_length >
+          0.0))
+        return fail_at(L, g, NULL,
+                       "rho_ref U_ref^2 L_ref = %g x %g^2 x %g, the coefficients' denominator, "
+                       "is not a finite positive number",
+                       sc->force_reference_density, sc->force_reference_speed,
+                       sc->force_reference_length);
+    sc->has_forces = true;
     return SPH_OK;
 }
 
@@ -2509,7 +2716,7 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
                          KEYS("title", "dimension", "resolution", "method", "time", "materials",
                               "shapes", "bodies", "observers", "analysis", "gravity",
                               "lattice_origin", "output", "monitor", "contact", "walls",
-                              "constants", "boundary"))))
+                              "constants", "boundary", "forces"))))
         return st;
 
     const config_setting_t *at;
@@ -2538,7 +2745,8 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
         (st = parse_monitor(L, root)))
         return st;
     if ((st = check_material_model(L, root)) || (st = parse_walls(L, root)) ||
-        (st = parse_contact(L, root)) || (st = parse_boundary(L, root)))
+        (st = parse_contact(L, root)) || (st = parse_boundary(L, root)) ||
+        (st = parse_forces(L, root)))
         return st;
     if ((st = get_vector(L, root, "gravity", false, sc->dim, sc->gravity, NULL)) ||
         (st = get_vector(L, root, "lattice_origin", false, sc->dim, sc->lattice_origin, &at)))

@@ -157,8 +157,8 @@ static sph_status check_stability(const sph_solver_args *a, const sph_timeseries
     const double e0 = ts->diag[0].kinetic + ts->diag[0].strain, e = d->kinetic + d->strain;
     bool gravity = false;
     for (int k = 0; k < sc->dim; ++k) gravity |= sc->gravity[k] != 0.0;
-    /* a fluid's fixed-state buffers let energy flow in (Shu-Osher's inflow) */
-    const bool inflow = fluid && sph_constraint_count(sc) > 0;
+    /* a fluid's fixed-state buffers and far field let energy flow in */
+    const bool inflow = fluid && (sph_constraint_count(sc) > 0 || sc->has_far_field);
     if (e0 > 0 && !gravity && !inflow && !sph_scene_has_driven_constraint(sc) &&
         e > (1.0 + sc->monitor_energy_growth) * e0)
         return trip(a, SPH_TRIP_ENERGY, t, "total energy / initial", e / e0,

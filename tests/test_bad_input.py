@@ -335,6 +335,32 @@ ROWS = [
         [ed("plate = { density = 1000.0; youngs_modulus = 2.0e6; poisson_ratio = 0.3975; };",
             "plate = { density = 1000.0; sound_speed = 1500.0; };")],
         marker="sound_speed = 1500.0"),
+    # --- fluids: wall bodies, the far field, forces (the flow around a cylinder, seed 004 §4.3)
+    Row("fluid: a wall body in a solid scene", 2,
+        ['{file}:{line}: bodies.plate.role: is for the bodies of fluid scenes (formulations '
+         '"eulerian-wc" and "eulerian-compressible"): a body there is matter or a wall; '
+         'formulation "enog-a"'],
+        [ed('    name = "plate";\n', '    name = "plate"; role = "wall";\n')],
+        marker='role = "wall"'),
+    Row("fluid: a far field in the compressible formulation", 2,
+        ["{file}:{line}: boundary.far_field: the far field of the compressible formulation is "
+         'not built yet (formulation "eulerian-compressible")'],
+        [ed('boundary = { periodic = ["x", "y"];',
+            'boundary = { periodic = ["x"];\n  far_field = { velocity = [1.0, 0.0]; };')],
+        text=GAS_TEXT, marker="far_field ="),
+    Row("fluid: forces without a wall body", 2,
+        ["{file}:{line}: forces: the forces are those the fluid exerts on the wall bodies, and "
+         'the scene has none: give a body role = "wall"'],
+        [ed("boundary = {", "forces = { reference_length = 1.0; reference_speed = 1.0; };\n"
+            "boundary = {")], text=FLUID_TEXT, marker="forces ="),
+    Row("fluid: a wall's spacing out of range", 2,
+        ["{file}:{line}: bodies.cyl.spacing: the body's particle spacing over dp must be in "
+         "(0, 1], got 1.5"],
+        [ed('shape = "box"; }\n', 'shape = "box"; },\n'
+            '  { name = "cyl"; role = "wall"; shape = "disc";\n    spacing = 1.5; }\n'),
+         ed("};\nbodies", '  disc = { type = "disc"; centre = [0.5, 0.5]; radius = 0.2; };\n'
+            "};\nbodies")],
+        text=FLUID_TEXT, marker="spacing = 1.5"),
     # --- missing required keys
     Row("missing required key: a material's density", 2,
         ["{file}:{line}: materials.plate.density: missing required key"],

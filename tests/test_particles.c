@@ -8,6 +8,7 @@
  * spinning plate, whose sums over the lattice are evaluated in closed form
  * below. */
 #include "particles.h"
+#include "sph_constants.h"
 #include "test_support.h"
 
 #include <float.h>
@@ -513,6 +514,237 @@ static void test_expression_velocity(test_counts *c) {
     sph_scene_free(&s);
 }
 
+/* The flow around a cylinder in small (seed 004 §4.3; docs/scene-format.md,
+ * "Fluids"): the box [0, 6] x [0, 4] at dp = 0.1, a wall disc r = 0.5 at
+ * (2, 2) on its own lattice at dp/2, the far field U = (1, 0) on the four
+ * faces.  `wall_extra` goes into the wall body's group, `order` puts the
+ * wall first (1) or last (0). */
+static sph_status load_cylinder(sph_scene *s, const char *wall_extra, int wall_first,
+                                const char *boundary, sph_error *err) {
+    char text[4096], path[1024];
+    char wall[512], fluid[256];
+    snprintf(wall, sizeof wall, "{ name = \"cyl\"; role = \"wall\"; shape = \"disc\"; %s }",
+             wall_extra);
+    snprintf(fluid, sizeof fluid, "{ name = \"fluid\"; material = \"water\"; shape = \"box\"; }");
+    snprintf(text, sizeof text,
+             "dimension = 2;\n"
+             "resolution = { dp = 0.1; };\n"
+             "method = { formulation = \"eulerian-wc\"; kernel = \"laguerre-gauss\"; };\n"
+             "time = { end = 1.0; output_interval = 0.1; };\n"
+             "materials = { water = { density = 1.0; sound_speed = 10.0; viscosity = 0.02; }; };\n"
+             "shapes = {\n"
+             "  box = { type = \"box\"; lower = [0.0, 0.0]; upper = [6.0, 4.0]; };\n"
+             "  disc = { type = \"disc\"; centre = [2.0, 2.0]; radius = 0.5; };\n"
+             "};\n"
+             "bodies = ( %s, %s );\n"
+             "boundary = { %s lower = [0.0, 0.0]; upper = [6.0, 4.0]; };\n"
+             "forces = { reference_length = 1.0; reference_speed = 1.0; };\n",
+             wall_first ? wall : fluid, wall_first ? fluid : wall, boundary);
+    test_scene_write(&tmp, text, path, sizeof path);
+    return sph_scene_load(s, path, NULL, 0, err);
+}
+
+#define FAR_FIELD "far_field = { density = 1.0; velocity = [1.0, 0.0]; };"
+
+/* Wall particles: kind, mass rho (dp/2)^2, inside the disc (at least
+ * `inset` inside), unit radial normals; returns their count. */
+static int check_wall(test_counts *c, const sph_particles *p, int wall_body, double inset,
+                      const char *what) {
+    const size_t n = (size_t)p->n;
+    const double cx = 2.0, cy = 2.0, r = 0.5, s = 0.05;
+    int count = 0;
+    bool kinds = true, masses = true, inside = true, unit = true, radial = true;
+    double worst_dot = 1.0, worst_unit = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        if (p->body[i] != wall_body) continue;
+        count++;
+        const double x = p->pos[i] - cx, y = p->pos[n + i] - cy, d = sqrt(x * x + y * y);
+        const double nx = p->normal[i], ny = p->normal[n + i];
+        const double len = sqrt(nx * nx + ny * ny), dot = (nx * x + ny * y) / d;
+        kinds &= p->kind[i] == SPH_PARTICLE_WALL;
+        masses &= fabs(p->mass[i] - s * s) < 1e-15 && p->rho[i] == 1.0;
+        inside &= d <= r - inset + 1e-12;
+        unit &= fabs(len - 1.0) < 1e-12;
+        radial &= dot > 0.99;
+        worst_unit = fmax(worst_unit, fabs(len - 1.0));
+        worst_dot = fmin(worst_dot, dot);
+    }
+    CHECK(c, kinds, "%s: wall particles are SPH_PARTICLE_WALL", what);
+    CHECK(c, masses, "%s: wall mass rho (dp/2)^2 = 0.0025, rho rho0", what);
+    CHECK(c, inside, "%s: wall particles inside the disc, %g from its surface", what, inset);
+    CHECK(c, unit, "%s: unit normals (worst |n| - 1 = %g)", what, worst_unit);
+    CHECK(c, radial, "%s: radial normals, out of the wall (worst dot %g)", what, worst_dot);
+    /* pi r^2 / (dp/2)^2 = 314.16 */
+    const double area = 3.14159265358979323846 * r * r / (s * s);
+    CHECK(c, fabs(count - area) <= 0.1 * area, "%s: %d wall particles, pi r^2 / (dp/2)^2 = %.1f",
+          what, count, area);
+    return count;
+}
+
+static void test_cylinder(test_counts *c) {
+    sph_scene s;
+    sph_error err = {0};
+    sph_particles p;
+    sph_status st = load_cylinder(&s, "", 0, FAR_FIELD, &err);
+    CHECK(c, st == SPH_OK, "cylinder scene: %s", err.msg);
+    if (st != SPH_OK) return;
+    st = sph_particles_generate(&s, &p, &err);
+    CHECK(c, st == SPH_OK, "cylinder particles: %s", err.msg);
+    int nwall = 0, nfluid = 0;
+    if (st == SPH_OK) {
+        const size_t n = (size_t)p.n;
+        CHECK(c, p.kind != NULL && p.normal != NULL, "kind and normal allocated");
+        if (!p.kind || !p.normal) {
+            sph_particles_free(&p);
+            sph_scene_free(&s);
+            return;
+        }
+        nwall = check_wall(c, &p, 1, 0.0, "lattice wall");
+        /* the wall lattice is anchored at the scene's origin (0, 0):
+         * its points are (i + 1/2) dp/2 */
+        bool aligned = true;
+        for (size_t i = 0; i < n; i++) {
+            if (p.body[i] != 1) continue;
+            for (int a = 0; a < 2; a++) {
+                const double k = p.pos[(size_t)a * n + i] / 0.05 - 0.5;
+                aligned &= fabs(k - round(k)) < 1e-9;
+            }
+        }
+        CHECK(c, aligned, "wall lattice (i + 1/2) dp/2 from the origin");
+        /* fluid: not inside the disc, on the dp lattice, mass rho0 dp^2;
+         * within 2h = 0.26 of a face: inflow or outflow with the nearest
+         * face's outward normal, else plain fluid with no normal */
+        const double cutoff = 2.0 * 1.3 * 0.1;
+        bool outside = true, masses = true, kinds = true;
+        int per_face[4] = {0, 0, 0, 0}, plain = 0, inside_lattice = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (p.body[i] != 0) continue;
+            nfluid++;
+            const double x = p.pos[i], y = p.pos[n + i];
+            outside &= hypot(x - 2.0, y - 2.0) > 0.5;
+            masses &= fabs(p.mass[i] - 0.01) < 1e-16 && p.rho[i] == 1.0;
+            const double dist[4] = {x, 6.0 - x, y, 4.0 - y}; /* left, right, bottom, top */
+            const double normals[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+            /* the nearest face within 2h; rounding-level ties to the first */
+            int face = -1;
+            double best = INFINITY;
+            for (int f = 0; f < 4; f++)
+                if (dist[f] < cutoff && dist[f] < best - 1e-10) best = dist[f], face = f;
+            if (face < 0) {
+                plain++;
+                kinds &=
+                    p.kind[i] == SPH_PARTICLE_FLUID && p.normal[i] == 0.0 && p.normal[n + i] == 0.0;
+                continue;
+            }
+            per_face[face]++;
+            const uint8_t expect = face == 1 ? SPH_PARTICLE_OUTFLOW : SPH_PARTICLE_INFLOW;
+            kinds &= p.kind[i] == expect && p.normal[i] == normals[face][0] &&
+                     p.normal[n + i] == normals[face][1];
+        }
+        for (long i = 0; i < 60; i++)
+            for (long j = 0; j < 40; j++)
+                inside_lattice += hypot(0.05 + 0.1 * i - 2.0, 0.05 + 0.1 * j - 2.0) <= 0.5;
+        CHECK(c, outside, "no fluid particle inside the disc");
+        CHECK(c, nfluid == 2400 - inside_lattice, "fluid: %d = 60 x 40 - %d in the disc", nfluid,
+              inside_lattice);
+        CHECK(c, masses, "fluid mass rho0 dp^2");
+        CHECK(c, kinds, "far-field kinds and normals (nearest face, ties the first axis)");
+        CHECK(c, per_face[0] > 0 && per_face[1] > 0 && per_face[2] > 0 && per_face[3] > 0,
+              "far-field particles on all four faces: left %d right %d bottom %d top %d",
+              per_face[0], per_face[1], per_face[2], per_face[3]);
+        int outflow = 0, inflow = 0;
+        for (size_t i = 0; i < n; i++) {
+            outflow += p.kind[i] == SPH_PARTICLE_OUTFLOW;
+            inflow += p.kind[i] == SPH_PARTICLE_INFLOW;
+        }
+        CHECK(c, outflow == per_face[1] && inflow == per_face[0] + per_face[2] + per_face[3],
+              "outflow %d (right face only, U . n > 0), inflow %d (left, bottom, top)", outflow,
+              inflow);
+        /* three layers (0.05, 0.15, 0.25 < 2h = 0.26) along each face; of
+         * the 3 x 3 points of a corner, the 6 with |x - face| <= |y - face|
+         * (ties to x) go to the left or right face: 3 x 40 - 2 x 3 there,
+         * 3 x 60 - 2 x 6 on the bottom and top */
+        CHECK(c,
+              per_face[0] == 114 && per_face[1] == 114 && per_face[2] == 168 &&
+                  per_face[3] == 168 && plain == nfluid - 564,
+              "layers: left %d right %d (114), bottom %d top %d (168)", per_face[0], per_face[1],
+              per_face[2], per_face[3]);
+        sph_particles_free(&p);
+        CHECK(c, p.kind == NULL && p.normal == NULL, "freed");
+    }
+    sph_scene_free(&s);
+
+    /* the wall first in scene order: the same particles, the wall's first */
+    st = load_cylinder(&s, "", 1, FAR_FIELD, &err);
+    CHECK(c, st == SPH_OK, "wall first: %s", err.msg);
+    if (st == SPH_OK) {
+        st = sph_particles_generate(&s, &p, &err);
+        CHECK(c, st == SPH_OK, "wall first: particles: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c, p.body_count[0] == nwall && p.body_count[1] == nfluid && p.body[0] == 0,
+                  "wall first: %d wall, %d fluid", p.body_count[0], p.body_count[1]);
+            sph_particles_free(&p);
+        }
+        sph_scene_free(&s);
+    }
+
+    /* a relaxed wall at its own spacing: the same count, dp/4 inside the
+     * surface, normals still radial */
+    st = load_cylinder(&s, "placement = \"relaxed\"; relaxation = { steps = 100; };", 0, FAR_FIELD,
+                       &err);
+    CHECK(c, st == SPH_OK, "relaxed wall: %s", err.msg);
+    if (st == SPH_OK) {
+        st = sph_particles_generate(&s, &p, &err);
+        CHECK(c, st == SPH_OK, "relaxed wall: particles: %s", err.msg);
+        if (st == SPH_OK) {
+            const int count = check_wall(c, &p, 1, 0.025 - 1e-9, "relaxed wall");
+            const sph_relax_report *r = &p.relax[1];
+            printf("cylinder r = 0.5 at dp = 0.1: %d wall particles at dp/2 (pi r^2 / (dp/2)^2 = "
+                   "314.2), %d fluid; relaxed wall: residual mean %.4g (lattice %.4g, start %.4g), "
+                   "closest pair %.3f dp/2\n",
+                   nwall, nfluid, r->mean, r->lattice_mean, r->start_mean, r->min_distance);
+            CHECK(c, count == nwall && r->relaxed && r->steps == 100 && r->particles == nwall,
+                  "relaxed wall: %d particles (lattice %d), %d steps", count, nwall, r->steps);
+            /* the residual and closest pair are measured at the wall's
+             * spacing: the closest pair in units of dp/2 */
+            CHECK(c, r->mean < r->start_mean && r->min_distance > 0.5 && r->min_distance < 1.5,
+                  "relaxed wall: residual %g (start %g), closest pair %g spacings", r->mean,
+                  r->start_mean, r->min_distance);
+            sph_particles_free(&p);
+        }
+        sph_scene_free(&s);
+    }
+
+    /* a periodic channel along x with the wall, no far field: kinds
+     * allocated, every fluid particle plain fluid; the wall's lattice
+     * passes the periodic check */
+    st = load_cylinder(&s, "spacing = 0.25;", 0, "periodic = [\"x\", \"y\"];", &err);
+    CHECK(c, st == SPH_OK, "periodic with a wall: %s", err.msg);
+    if (st == SPH_OK) {
+        st = sph_particles_generate(&s, &p, &err);
+        CHECK(c, st == SPH_OK, "periodic with a wall: particles: %s", err.msg);
+        if (st == SPH_OK) {
+            const size_t n = (size_t)p.n;
+            bool plain = p.kind != NULL;
+            int walls = 0;
+            for (size_t i = 0; plain && i < n; i++) {
+                walls += p.kind[i] == SPH_PARTICLE_WALL;
+                if (p.body[i] == 0)
+                    plain &= p.kind[i] == SPH_PARTICLE_FLUID && p.normal[i] == 0.0 &&
+                             p.normal[n + i] == 0.0;
+                else
+                    plain &=
+                        p.kind[i] == SPH_PARTICLE_WALL && fabs(p.mass[i] - 0.025 * 0.025) < 1e-16;
+            }
+            /* pi r^2 / (dp/4)^2 = 1256.6 */
+            CHECK(c, plain && fabs(walls - 1256.6) < 0.05 * 1256.6,
+                  "periodic: plain fluid, %d wall particles at dp/4", walls);
+            sph_particles_free(&p);
+        }
+        sph_scene_free(&s);
+    }
+}
+
 int main(void) {
     test_counts c = {0, 0};
     if (test_scene_dir_open(&tmp, "test_particles") != 0) return 2;
@@ -523,6 +755,7 @@ int main(void) {
     test_velocity_fields(&c);
     test_rings(&c);
     test_expression_velocity(&c);
+    test_cylinder(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_particles", &c);
 }

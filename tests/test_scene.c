@@ -659,6 +659,24 @@ static const bad_row BAD[] = {
      "\"eulerian-compressible\"), and this scene's formulation is \"enog-a\""},
     {"mach_number of a solid", ");\n", ");\noutput = { fields = [\"mach_number\"]; };\n", NULL,
      "%F:15: output.fields.[0]: mach_number is a fluid field"},
+    /* the flow around a cylinder's keys (seed 004 §4.3) are the fluids' */
+    {"role wall in a solid scene", "shape = \"block\";", "shape = \"block\"; role = \"wall\";",
+     NULL,
+     "%F:13: bodies.a.role: is for the bodies of fluid scenes (formulations \"eulerian-wc\" and "
+     "\"eulerian-compressible\"): a body there is matter or a wall; formulation \"enog-a\""},
+    {"role matter in a solid scene", "shape = \"block\";", "shape = \"block\"; role = \"matter\";",
+     NULL, "%F:13: bodies.a.role: is for the bodies of fluid scenes"},
+    {"spacing in a solid scene", "shape = \"block\";", "shape = \"block\"; spacing = 1.0;", NULL,
+     "%F:13: bodies.a.spacing: is for the bodies of fluid scenes"},
+    {"a far field in a solid scene", ");\n",
+     ");\nboundary = { far_field = { velocity = [1.0, 0.0]; }; lower = [0.0, 0.0]; upper = [1.0, "
+     "1.0]; };\n",
+     NULL,
+     "%F:15: boundary: a far field is implemented for the eulerian formulations "
+     "(\"eulerian-wc\"), got formulation \"enog-a\""},
+    {"forces in a solid scene", ");\n", ");\nforces = { reference_length = 1.0; };\n", NULL,
+     "%F:15: forces: is for the wall bodies of fluid scenes (formulation \"eulerian-wc\"), got "
+     "formulation \"enog-a\""},
 };
 
 /* A small valid fluid scene (seed 004 §3.1, the weakly compressible
@@ -766,10 +784,10 @@ static const bad_row FLUID_BAD[] = {
     {"initial_density: unknown variable", "shape = \"box\";",
      "shape = \"box\"; initial_density = \"1 + q\";", NULL,
      "%F:13: bodies.f.initial_density: the expression \"1 + q\": unknown variable 'q'"},
-    {"constraints on a fluid body", "shape = \"box\";",
-     "shape = \"box\"; constraints = ( { type = \"fixed\"; region = \"box\"; } );", NULL,
-     "%F:13: bodies.f.constraints: constraints are not supported for the eulerian formulations "
-     "yet"},
+    {"a velocity constraint on a fluid body", "shape = \"box\";",
+     "shape = \"box\"; constraints = ( { type = \"velocity\"; region = \"box\"; } );", NULL,
+     "%F:13: bodies.f.constraints.[0].type: a fluid body takes constraints of type \"fixed\" "
+     "only"},
     /* walls, contact, output */
     {"walls in a fluid scene", ");\nboundary",
      ");\nwalls = ( { name = \"w\"; point = [0.0, 0.0]; normal = [0.0, 1.0]; } );\nboundary", NULL,
@@ -816,6 +834,129 @@ static const bad_row FLUID_BAD[] = {
      "c = sqrt(gamma p / rho)"},
 };
 
+/* The flow around a cylinder (seed 004 §4.3) in small: a far field on
+ * the four faces of the box, a wall body (a disc at dp/2), the forces on
+ * it; CYL_BAD edits it. */
+static const char CYL_BASE[] =
+    "# cylinder test scene\n"                                                /*  1 */
+    "dimension = 2;\n"                                                       /*  2 */
+    "resolution = { dp = 0.1; };\n"                                          /*  3 */
+    "method = { formulation = \"eulerian-wc\"; };\n"                         /*  4 */
+    "time = { end = 1.0; output_interval = 0.1; };\n"                        /*  5 */
+    "materials = {\n"                                                        /*  6 */
+    "  water = { density = 1.0; sound_speed = 10.0; viscosity = 0.02; };\n"  /*  7 */
+    "};\n"                                                                   /*  8 */
+    "shapes = {\n"                                                           /*  9 */
+    "  box = { type = \"box\"; lower = [0.0, 0.0]; upper = [6.0, 4.0]; };\n" /* 10 */
+    "  disc = { type = \"disc\"; centre = [2.0, 2.0]; radius = 0.5; };\n"    /* 11 */
+    "};\n"                                                                   /* 12 */
+    "bodies = (\n"                                                           /* 13 */
+    "  { name = \"f\"; material = \"water\"; shape = \"box\"; },\n"          /* 14 */
+    "  { name = \"cyl\"; role = \"wall\"; shape = \"disc\"; }\n"             /* 15 */
+    ");\n"                                                                   /* 16 */
+    "boundary = { far_field = { density = 1.0; velocity = [1.0, 0.0]; };\n"  /* 17 */
+    "             lower = [0.0, 0.0]; upper = [6.0, 4.0]; };\n"              /* 18 */
+    "forces = { reference_length = 1.0; };\n";                               /* 19 */
+
+static const bad_row CYL_BAD[] = {
+    /* role */
+    {"role: an unknown word", "role = \"wall\";", "role = \"solid\";", NULL,
+     "%F:15: bodies.cyl.role: must be one of \"matter\", \"wall\", got \"solid\""},
+    {"role: not a string", "role = \"wall\";", "role = 1;", NULL,
+     "%F:15: bodies.cyl.role: expected a string, got an integer"},
+    {"only walls", "name = \"f\"; material", "name = \"f\"; role = \"wall\"; material", NULL,
+     "%F:13: bodies: every body is a wall (role = \"wall\"): a fluid scene needs at least one "
+     "matter body"},
+    {"a wall with an unknown material", "role = \"wall\";",
+     "role = \"wall\"; material = \"steel\";", NULL,
+     "%F:15: bodies.cyl.material: unknown material 'steel'"},
+    {"a matter body without material", "material = \"water\"; shape = \"box\";", "shape = \"box\";",
+     NULL, "%F:14: bodies.f.material: missing required key"},
+    {"a moving wall", "shape = \"disc\";",
+     "shape = \"disc\"; initial_velocity = { type = \"uniform\"; vector = [1.0, 0.0]; };", NULL,
+     "%F:15: bodies.cyl.initial_velocity: body 'cyl' is a wall (role = \"wall\"): a wall is at "
+     "rest in the fluid's reference state"},
+    {"a wall's initial_density", "shape = \"disc\";", "shape = \"disc\"; initial_density = 1.1;",
+     NULL, "%F:15: bodies.cyl.initial_density: body 'cyl' is a wall"},
+    {"a wall's initial_pressure", "shape = \"disc\";", "shape = \"disc\"; initial_pressure = 1.0;",
+     NULL, "%F:15: bodies.cyl.initial_pressure: body 'cyl' is a wall"},
+    {"a wall's constraints", "shape = \"disc\";",
+     "shape = \"disc\"; constraints = ( { type = \"fixed\"; region = \"disc\"; } );", NULL,
+     "%F:15: bodies.cyl.constraints: body 'cyl' is a wall"},
+    {"a relaxed matter body beside a wall", "shape = \"box\";",
+     "shape = \"box\"; placement = \"relaxed\";", NULL,
+     "%F:14: bodies.f.placement: a relaxed placement of a matter body is not supported with wall "
+     "bodies yet"},
+    /* spacing */
+    {"spacing 0", "shape = \"disc\";", "shape = \"disc\"; spacing = 0.0;", NULL,
+     "%F:15: bodies.cyl.spacing: the body's particle spacing over dp must be in (0, 1], got 0"},
+    {"spacing above 1", "shape = \"disc\";", "shape = \"disc\"; spacing = 1.5;", NULL,
+     "%F:15: bodies.cyl.spacing: the body's particle spacing over dp must be in (0, 1], got 1.5"},
+    {"spacing negative", "shape = \"disc\";", "shape = \"disc\"; spacing = -0.5;", NULL,
+     "%F:15: bodies.cyl.spacing: the body's particle spacing over dp must be in (0, 1], got -0.5"},
+    {"spacing a string", "shape = \"disc\";", "shape = \"disc\"; spacing = \"half\";", NULL,
+     "%F:15: bodies.cyl.spacing: expected a number, got a string"},
+    {"a matter body's spacing", "shape = \"box\";", "shape = \"box\"; spacing = 0.5;", NULL,
+     "%F:14: bodies.f.spacing: a matter body is placed on the scene's lattice (spacing 1, dp "
+     "apart); other spacings are for wall bodies (role = \"wall\") for now, got 0.5"},
+    /* the far field */
+    {"far field without velocity", "density = 1.0; velocity = [1.0, 0.0]; }", "density = 1.0; }",
+     NULL, "%F:17: boundary.far_field.velocity: missing required key"},
+    {"far field velocity of the wrong dimension", "velocity = [1.0, 0.0]",
+     "velocity = [1.0, 0.0, 0.0]", NULL,
+     "%F:17: boundary.far_field.velocity: expected a vector of 2 numbers, got 3 elements"},
+    {"far field density 0", "far_field = { density = 1.0;", "far_field = { density = 0.0;", NULL,
+     "%F:17: boundary.far_field.density: must be > 0, got 0"},
+    {"far field with an unknown key", "far_field = { density",
+     "far_field = { pressure = 1.0; density", NULL,
+     "%F:17: boundary.far_field.pressure: unknown key 'pressure' (valid keys here: density, "
+     "velocity)"},
+    {"far field not a group", "far_field = { density = 1.0; velocity = [1.0, 0.0]; };",
+     "far_field = 1.0;", NULL, "%F:17: boundary.far_field: expected a group { ... }, got a number"},
+    {"far field without lower", "lower = [0.0, 0.0]; upper = [6.0, 4.0]; };\nforces",
+     "upper = [6.0, 4.0]; };\nforces", NULL, "%F:17: boundary.lower: missing required key"},
+    {"far field box upper <= lower", "upper = [6.0, 4.0]; };\nforces",
+     "upper = [6.0, 0.0]; };\nforces", NULL,
+     "%F:18: boundary.upper: must exceed lower along y (the far field's box [lower, upper]), got "
+     "upper = 0, lower = 0"},
+    {"far field with every axis periodic", "boundary = { far_field",
+     "boundary = { periodic = [\"x\", \"y\"]; far_field", NULL,
+     "%F:17: boundary.far_field: the far field acts on the faces across the axes that are not "
+     "periodic, and every axis is periodic"},
+    {"boundary with neither periodic nor far_field",
+     "far_field = { density = 1.0; velocity = [1.0, 0.0]; };", "", NULL,
+     "%F:17: boundary.periodic: missing required key: a boundary has periodic axes (periodic), a "
+     "far field (far_field) or both"},
+    /* forces */
+    {"forces without reference_length", "forces = { reference_length = 1.0; };",
+     "forces = { window = 1.0; };", NULL, "%F:19: forces.reference_length: missing required key"},
+    {"forces: reference_length 0", "reference_length = 1.0;", "reference_length = 0.0;", NULL,
+     "%F:19: forces.reference_length: must be > 0, got 0"},
+    {"forces: reference_density < 0", "reference_length = 1.0;",
+     "reference_length = 1.0; reference_density = -1.0;", NULL,
+     "%F:19: forces.reference_density: must be > 0, got -1"},
+    {"forces: reference_speed 0", "reference_length = 1.0;",
+     "reference_length = 1.0; reference_speed = 0.0;", NULL,
+     "%F:19: forces.reference_speed: must be > 0, got 0"},
+    {"forces: a negative window", "reference_length = 1.0;",
+     "reference_length = 1.0; window = -1.0;", NULL, "%F:19: forces.window: must be >= 0, got -1"},
+    {"forces: an unknown key", "reference_length = 1.0;", "reference_lenght = 1.0;", NULL,
+     "%F:19: forces.reference_lenght: unknown key 'reference_lenght' (did you mean "
+     "'reference_length'?)"},
+    {"forces without a wall body", "role = \"wall\"; shape = \"disc\";",
+     "material = \"water\"; shape = \"disc\";", NULL,
+     "%F:19: forces: the forces are those the fluid exerts on the wall bodies, and the scene has "
+     "none"},
+    {"forces: no default reference speed (a still far field)", "velocity = [1.0, 0.0]",
+     "velocity = [0.0, 0.0]", NULL,
+     "%F:19: forces.reference_speed: missing required key: the far field's velocity is 0"},
+    {"walls (planes) in a fluid scene", ");\nboundary",
+     ");\nwalls = ( { name = \"w\"; point = [0.0, 0.0]; normal = [0.0, 1.0]; } );\nboundary", NULL,
+     "%F:17: walls: walls are not supported for the eulerian formulations yet (formulation "
+     "\"eulerian-wc\"); a fluid scene is bounded by its periodic boundary, a far field "
+     "(boundary.far_field) or wall bodies (bodies.X.role = \"wall\")"},
+};
+
 /* edits applied in order before a FLUID_GAS row's own (the compressible
  * scene): formulation, material, body */
 static const char *const GAS_EDITS[3][2] = {
@@ -845,6 +986,16 @@ static const bad_row GAS_BAD[] = {
     {"initial_pressure: unknown variable", "initial_pressure = 71.43;",
      "initial_pressure = \"p0 * x\";", NULL,
      "%F:13: bodies.f.initial_pressure: the expression \"p0 * x\": unknown variable 'p0'"},
+    {"far field in the compressible formulation", "boundary = { periodic = [\"x\", \"y\"];",
+     "boundary = { periodic = [\"x\"]; far_field = { velocity = [1.0, 0.0]; };", NULL,
+     "%F:15: boundary.far_field: the far field of the compressible formulation is not built yet "
+     "(formulation \"eulerian-compressible\")"},
+    {"a wall in the compressible formulation", "shape = \"box\"; initial_pressure = 71.43; }",
+     "shape = \"box\"; initial_pressure = 71.43; },\n  { name = \"w\"; role = \"wall\"; shape "
+     "= \"box\"; }",
+     NULL,
+     "%F:14: bodies.w.role: walls of the compressible formulation are not built yet (formulation "
+     "\"eulerian-compressible\"); wall bodies are implemented for \"eulerian-wc\""},
     {"mach_number is fine, displacement is not", ");\nboundary",
      ");\noutput = { fields = [\"mach_number\", \"displacement\"]; };\nboundary", NULL,
      "%F:15: output.fields.[1]: displacement is a field of the solid formulations; formulation "
@@ -917,6 +1068,7 @@ static void run_bad_rows(test_counts *c, const char *base, const bad_row *rows, 
 static void test_bad_inputs(test_counts *c) {
     run_bad_rows(c, BASE, BAD, sizeof BAD / sizeof BAD[0]);
     run_bad_rows(c, FLUID_BASE, FLUID_BAD, sizeof FLUID_BAD / sizeof FLUID_BAD[0]);
+    run_bad_rows(c, CYL_BASE, CYL_BAD, sizeof CYL_BAD / sizeof CYL_BAD[0]);
     char gas[4096], step[4096];
     snprintf(gas, sizeof gas, "%s", FLUID_BASE);
     for (int k = 0; k < 3; ++k) {
@@ -1453,6 +1605,204 @@ static void test_fluids(test_counts *c) {
     }
 }
 
+/* CYL_BASE with `nedits` (find, replace) pairs applied in order, written
+ * to a fresh scene file whose path goes to `path`. */
+static void write_cylinder(const char *const (*edits)[2], int nedits, char *path, size_t size) {
+    char text[4096], step[4096];
+    snprintf(text, sizeof text, "%s", CYL_BASE);
+    for (int k = 0; k < nedits; ++k) {
+        edit(text, edits[k][0], edits[k][1], step, sizeof step);
+        snprintf(text, sizeof text, "%s", step);
+    }
+    test_scene_write(&tmp, text, path, size);
+}
+
+/* The flow around a cylinder's keys (seed 004 §4.3): bodies.X.role and
+ * .spacing, boundary.far_field, forces, with their defaults; the far
+ * field's box checked when the particles are placed. */
+static void test_walls(test_counts *c) {
+    char path[1024];
+    sph_scene s;
+    sph_error err = {0};
+
+    /* solid scenes: every body matter on the scene's lattice */
+    if (load_case_scene(c, "oscillating_plate_2d", &s)) {
+        CHECK(c, s.bodies[0].role == SPH_BODY_MATTER && s.bodies[0].spacing_ratio == 1.0,
+              "solid body: matter, spacing 1 (%d, %g)", s.bodies[0].role,
+              s.bodies[0].spacing_ratio);
+        CHECK(c, !s.has_far_field && !s.has_forces, "no far field, no forces");
+        sph_scene_free(&s);
+    }
+
+    /* the base: defaults everywhere */
+    write_cylinder(NULL, 0, path, sizeof path);
+    sph_status st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, st == SPH_OK, "cylinder scene: %s", err.msg);
+    if (st == SPH_OK) {
+        const sph_body *f = &s.bodies[0], *w = &s.bodies[1];
+        CHECK(c, f->role == SPH_BODY_MATTER && f->spacing_ratio == 1.0, "fluid: matter, 1");
+        CHECK(c, w->role == SPH_BODY_WALL && w->spacing_ratio == 0.5 && w->material == 0,
+              "wall: role %d, spacing %g (default dp/2), material %d (the fluid's)", w->role,
+              w->spacing_ratio, w->material);
+        CHECK(c,
+              w->velocity.type == SPH_VELOCITY_ZERO && w->nconstraints == 0 &&
+                  w->initial_density[0] == '\0',
+              "a wall at rest");
+        CHECK(c,
+              s.has_far_field && s.far_field_density == 1.0 && s.far_field_velocity[0] == 1.0 &&
+                  s.far_field_velocity[1] == 0.0,
+              "far field rho %g U (%g, %g)", s.far_field_density, s.far_field_velocity[0],
+              s.far_field_velocity[1]);
+        CHECK(c, s.periodic_mask == 0, "no periodic axis: mask %d", s.periodic_mask);
+        CHECK(c,
+              s.periodic_lower[0] == 0.0 && s.periodic_upper[0] == 6.0 &&
+                  s.periodic_lower[1] == 0.0 && s.periodic_upper[1] == 4.0,
+              "box [0, 6] x [0, 4]");
+        char where[1100];
+        snprintf(where, sizeof where, "%s:17: boundary", path);
+        CHECK(c, strcmp(s.periodic_where, where) == 0, "where '%s'", s.periodic_where);
+        CHECK(c,
+              s.has_forces && s.force_reference_density == 1.0 && s.force_reference_speed == 1.0 &&
+                  s.force_reference_length == 1.0 && s.force_window == 0.0,
+              "forces: rho_ref %g U_ref %g L_ref %g window %g", s.force_reference_density,
+              s.force_reference_speed, s.force_reference_length, s.force_window);
+        sph_scene_free(&s);
+    }
+
+    /* given values; the far field's density defaults to rho0, the
+     * reference speed to |U_inf|; a wall naming the material, relaxed, at
+     * dp/4; a periodic axis beside the far field */
+    {
+        const char *const e[][2] = {
+            {"density = 1.0; sound_speed", "density = 2.0; sound_speed"},
+            {"far_field = { density = 1.0; velocity = [1.0, 0.0]; };",
+             "periodic = [\"y\"]; far_field = { velocity = [3.0, 4.0]; };"},
+            {"role = \"wall\"; shape = \"disc\";",
+             "role = \"wall\"; material = \"water\"; shape = \"disc\"; spacing = 0.25; "
+             "placement = \"lattice\";"},
+            {"forces = { reference_length = 1.0; };",
+             "forces = { reference_length = 2.0; window = 50.0; };"},
+        };
+        write_cylinder(e, 4, path, sizeof path);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK, "cylinder scene, given values: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c, s.bodies[1].spacing_ratio == 0.25 && s.bodies[1].material == 0,
+                  "spacing 0.25");
+            CHECK(c, s.far_field_density == 2.0 && s.periodic_mask == 2,
+                  "far field rho = rho0 = %g, mask %d", s.far_field_density, s.periodic_mask);
+            CHECK(c,
+                  s.force_reference_density == 2.0 && s.force_reference_speed == 5.0 &&
+                      s.force_reference_length == 2.0 && s.force_window == 50.0,
+                  "rho_ref %g (the far field's), U_ref %g (|(3, 4)|), L_ref %g, window %g",
+                  s.force_reference_density, s.force_reference_speed, s.force_reference_length,
+                  s.force_window);
+            sph_scene_free(&s);
+        }
+    }
+
+    /* no far field: a wall in a periodic channel; rho_ref is the fluid's,
+     * U_ref must be given; a relaxed wall body */
+    {
+        const char *const e[][2] = {
+            {"density = 1.0; sound_speed", "density = 3.0; sound_speed"},
+            {"far_field = { density = 1.0; velocity = [1.0, 0.0]; };", "periodic = [\"x\"];"},
+            {"shape = \"disc\";", "shape = \"disc\"; placement = \"relaxed\";"},
+            {"forces = { reference_length = 1.0; };",
+             "forces = { reference_length = 1.0; reference_speed = 0.5; };"},
+        };
+        write_cylinder(e, 4, path, sizeof path);
+        memset(&err, 0, sizeof err);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        /* a periodic boundary refuses relaxed bodies, walls included */
+        CHECK(c,
+              st == SPH_ERR_INPUT && strstr(err.msg, "bodies.cyl.placement: a relaxed placement "
+                                                     "is not supported with a periodic"),
+              "relaxed wall, periodic: %s", err.msg);
+        if (st == SPH_OK) sph_scene_free(&s);
+        const char *const e2[][2] = {{e[0][0], e[0][1]}, {e[1][0], e[1][1]}, {e[3][0], e[3][1]}};
+        write_cylinder(e2, 3, path, sizeof path);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK, "periodic channel with a wall: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c,
+                  !s.has_far_field && s.periodic_mask == 1 && s.has_forces &&
+                      s.force_reference_density == 3.0 && s.force_reference_speed == 0.5,
+                  "rho_ref %g (rho0), U_ref %g", s.force_reference_density,
+                  s.force_reference_speed);
+            sph_scene_free(&s);
+        }
+        const char *const e3[][2] = {{e[0][0], e[0][1]}, {e[1][0], e[1][1]}};
+        write_cylinder(e3, 2, path, sizeof path);
+        memset(&err, 0, sizeof err);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        char expect[1200];
+        snprintf(expect, sizeof expect,
+                 "%s:19: forces.reference_speed: missing required key: without a far field there "
+                 "is no free-stream speed",
+                 path);
+        CHECK(c, st == SPH_ERR_INPUT && strstr(err.msg, expect), "no U_ref: %s", err.msg);
+        if (st == SPH_OK) sph_scene_free(&s);
+    }
+
+    /* overrides create boundary.far_field and forces */
+    {
+        const char *const e[][2] = {
+            {"\nforces = { reference_length = 1.0; };\n", "\n"},
+            {"boundary = { far_field = { density = 1.0; velocity = [1.0, 0.0]; };\n"
+             "             lower = [0.0, 0.0]; upper = [6.0, 4.0]; };",
+             "boundary = { periodic = [\"x\", \"y\"]; lower = [0.0, 0.0]; upper = [6.0, 4.0]; };"},
+        };
+        write_cylinder(e, 2, path, sizeof path);
+        const char *ov[] = {"boundary.periodic=[\"y\"]", "boundary.far_field.velocity=[2.0, 0.0]",
+                            "forces.reference_length=1.0"};
+        st = sph_scene_load(&s, path, ov, 3, &err);
+        CHECK(c, st == SPH_OK, "far field and forces by --set: %s", err.msg);
+        if (st == SPH_OK) {
+            CHECK(c,
+                  s.has_far_field && s.far_field_velocity[0] == 2.0 && s.periodic_mask == 2 &&
+                      s.has_forces && s.force_reference_speed == 2.0,
+                  "--set: U %g, mask %d, U_ref %g", s.far_field_velocity[0], s.periodic_mask,
+                  s.force_reference_speed);
+            sph_scene_free(&s);
+        }
+        const char *bad[] = {"boundary.periodic=[\"y\"]", "boundary.far_field.velocity=[2.0, 0.0]",
+                             "forces.reference_length=-1.0"};
+        st = sph_scene_load(&s, path, bad, 3, &err);
+        CHECK(c,
+              st == SPH_ERR_INPUT &&
+                  strstr(err.msg, "--set forces.reference_length=-1.0: "
+                                  "forces.reference_length: must be > 0, got -1"),
+              "--set forces: %s", err.msg);
+        if (st == SPH_OK) sph_scene_free(&s);
+    }
+
+    /* a matter particle outside the far field's box: refused when the
+     * particles are placed, naming boundary */
+    {
+        const char *const e[][2] = {
+            {"upper = [6.0, 4.0]; };\nforces", "upper = [5.0, 4.0]; };\nforces"}};
+        write_cylinder(e, 1, path, sizeof path);
+        st = sph_scene_load(&s, path, NULL, 0, &err);
+        CHECK(c, st == SPH_OK, "box smaller than the fluid: loads: %s", err.msg);
+        if (st == SPH_OK) {
+            sph_particles p;
+            memset(&err, 0, sizeof err);
+            st = sph_particles_generate(&s, &p, &err);
+            char expect[2600];
+            snprintf(expect, sizeof expect,
+                     "%s:17: boundary: the particle at (5.05, 0.05) of body 'f' (%s:14: bodies.f) "
+                     "lies outside the far field's box boundary.lower to boundary.upper, (0, 0) "
+                     "to (5, 4); every matter body must lie within it",
+                     path, path);
+            CHECK(c, st == SPH_ERR_INPUT && strstr(err.msg, expect),
+                  "outside the box:\n  got      '%s'\n  expected '%s'", err.msg, expect);
+            if (st == SPH_OK) sph_particles_free(&p);
+            sph_scene_free(&s);
+        }
+    }
+}
+
 int main(void) {
     test_counts c = {0, 0};
     if (test_scene_dir_open(&tmp, "test_scene") != 0) return 2;
@@ -1468,6 +1818,7 @@ int main(void) {
     test_names(&c);
     test_expressions(&c);
     test_fluids(&c);
+    test_walls(&c);
     test_scene_dir_close(&tmp);
     return test_summary("test_scene", &c);
 }

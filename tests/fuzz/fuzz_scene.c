@@ -20,6 +20,7 @@
 
 #include "particles.h"
 #include "scene.h"
+#include "sph_constants.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -65,13 +66,73 @@ static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
                 sc->nshapes, sc->nbodies, sc->nobservers);
         return;
     }
+    const bool eulerian = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
+    const bool compressible = sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
     for (int m = 0; m < sc->nmaterials; m++) {
         const sph_material *mat = &sc->materials[m];
-        if (!finite_positive(mat->density) || !finite_positive(mat->sound_speed) ||
-            !finite_positive(mat->bulk_modulus) || !finite_positive(mat->shear_modulus))
-            violate(res, "material '%s': rho %g, c0 %g, K %g, G %g", mat->name, mat->density,
-                    mat->sound_speed, mat->bulk_modulus, mat->shear_modulus);
+        if (mat->fluid != eulerian)
+            violate(res, "material '%s': fluid %d in formulation %d", mat->name, mat->fluid,
+                    (int)sc->formulation);
+        if (!mat->fluid) {
+            if (!finite_positive(mat->density) || !finite_positive(mat->sound_speed) ||
+                !finite_positive(mat->bulk_modulus) || !finite_positive(mat->shear_modulus))
+                violate(res, "material '%s': rho %g, c0 %g, K %g, G %g", mat->name, mat->density,
+                        mat->sound_speed, mat->bulk_modulus, mat->shear_modulus);
+            continue;
+        }
+        /* a fluid has no shear modulus; the weakly compressible one has c0
+         * and K = rho0 c0^2, the ideal gas neither (its c follows from its
+         * state) but a gamma in (1, 5/3] */
+        const bool state_ok =
+            compressible ? mat->sound_speed == 0.0 && mat->bulk_modulus == 0.0 &&
+                               mat->gamma > 1.0 && mat->gamma <= 5.0 / 3.0 + 1e-6
+                         : finite_positive(mat->sound_speed) && finite_positive(mat->bulk_modulus);
+        if (!finite_positive(mat->density) || mat->shear_modulus != 0.0 || !state_ok ||
+            !isfinite(mat->viscosity) || mat->viscosity < 0.0)
+            violate(res, "fluid material '%s': rho %g, c0 %g, K %g, G %g, gamma %g, mu %g",
+                    mat->name, mat->density, mat->sound_speed, mat->bulk_modulus,
+                    mat->shear_modulus, mat->gamma, mat->viscosity);
     }
+    /* the flow around a cylinder's keys: walls at rest on their own lattice,
+     * at least one matter body, a far field and forces with finite positive
+     * references */
+    int matter = 0, walls = 0;
+    for (int b = 0; b < sc->nbodies; b++) {
+        const sph_body *body = &sc->bodies[b];
+        const bool wall = body->role == SPH_BODY_WALL;
+        matter += body->role == SPH_BODY_MATTER;
+        walls += wall;
+        if ((body->role != SPH_BODY_MATTER && !wall) || !(body->spacing_ratio > 0.0) ||
+            body->spacing_ratio > 1.0 || (!wall && body->spacing_ratio != 1.0) ||
+            (wall && (!eulerian || compressible || body->nconstraints != 0 ||
+                      body->velocity.type != SPH_VELOCITY_ZERO || body->initial_density[0] ||
+                      body->initial_pressure[0])))
+            violate(res, "body %d: role %d, spacing %g, %d constraints, velocity type %d", b,
+                    (int)body->role, body->spacing_ratio, body->nconstraints,
+                    (int)body->velocity.type);
+    }
+    if (matter < 1) violate(res, "no matter body");
+    if (sc->has_far_field) {
+        double u2 = 0.0;
+        for (int a = 0; a < sc->dim; a++) {
+            u2 += sc->far_field_velocity[a] * sc->far_field_velocity[a];
+            if (!(sc->periodic_upper[a] > sc->periodic_lower[a]) ||
+                !isfinite(sc->periodic_upper[a] - sc->periodic_lower[a]))
+                violate(res, "far field box axis %d: [%g, %g]", a, sc->periodic_lower[a],
+                        sc->periodic_upper[a]);
+        }
+        if (!eulerian || compressible || !finite_positive(sc->far_field_density) || !isfinite(u2) ||
+            sc->periodic_mask == (1 << sc->dim) - 1)
+            violate(res, "far field: rho %g, |U|^2 %g, periodic mask %d", sc->far_field_density, u2,
+                    sc->periodic_mask);
+    }
+    if (sc->has_forces && (walls < 1 || !finite_positive(sc->force_reference_density) ||
+                           !finite_positive(sc->force_reference_speed) ||
+                           !finite_positive(sc->force_reference_length) ||
+                           !isfinite(sc->force_window) || sc->force_window < 0.0))
+        violate(res, "forces: %d walls, rho %g, U %g, L %g, window %g", walls,
+                sc->force_reference_density, sc->force_reference_speed, sc->force_reference_length,
+                sc->force_window);
     for (int s = 0; s < sc->nshapes; s++) {
         const sph_shape *sh = &sc->shapes[s];
         if (sh->type == SPH_SHAPE_BOX) {
@@ -138,8 +199,10 @@ static bool within_budget(const sph_scene *sc) {
     double total = 0.0;
     for (int b = 0; b < sc->nbodies; b++) {
         double lo[3], hi[3], points = 1.0;
+        /* a wall body's lattice: spacing_ratio dp */
+        const double ratio = sc->bodies[b].spacing_ratio > 0.0 ? sc->bodies[b].spacing_ratio : 1.0;
         sph_shape_bounds(sc, sc->bodies[b].shape, lo, hi);
-        for (int a = 0; a < sc->dim; a++) points *= (hi[a] - lo[a]) / sc->dp + 1.0;
+        for (int a = 0; a < sc->dim; a++) points *= (hi[a] - lo[a]) / (ratio * sc->dp) + 1.0;
         total += points;
     }
     return total <= FUZZ_SCENE_PARTICLE_BUDGET;
@@ -171,6 +234,35 @@ static void check_particles(fuzz_scene_result *res, const sph_scene *sc, const s
     for (int b = 0; b < sc->nbodies; b++)
         if (per_body[b] < 1 || per_body[b] != p->body_count[b])
             violate(res, "body %d: %d particles, body_count %d", b, per_body[b], p->body_count[b]);
+    /* fluid scenes with walls or a far field: every particle's kind, a wall
+     * particle's unit normal, a far-field particle's axis-aligned one */
+    bool any_wall = false;
+    for (int b = 0; b < sc->nbodies; b++) any_wall |= sc->bodies[b].role == SPH_BODY_WALL;
+    const bool kinds =
+        SPH_FORMULATION_IS_EULERIAN(sc->formulation) && (any_wall || sc->has_far_field);
+    if (kinds != (p->kind != NULL) || kinds != (p->normal != NULL)) {
+        violate(res, "kind %p, normal %p, expected %s", (void *)p->kind, (void *)p->normal,
+                kinds ? "both" : "neither");
+        return;
+    }
+    for (int i = 0; kinds && i < p->n; i++) {
+        const bool wall = sc->bodies[p->body[i]].role == SPH_BODY_WALL;
+        double n2 = 0.0;
+        for (int a = 0; a < p->dim; a++) {
+            const double c = p->normal[(size_t)a * (size_t)p->n + (size_t)i];
+            n2 += c * c;
+        }
+        const uint8_t k = p->kind[i];
+        const bool ok = wall ? k == SPH_PARTICLE_WALL && fabs(n2 - 1.0) < 1e-9
+                        : k == SPH_PARTICLE_FLUID
+                            ? n2 == 0.0
+                            : (k == SPH_PARTICLE_INFLOW || k == SPH_PARTICLE_OUTFLOW) &&
+                                  sc->has_far_field && n2 == 1.0;
+        if (!ok) {
+            violate(res, "particle %d: kind %d, |normal|^2 %g (body %d)", i, k, n2, p->body[i]);
+            return;
+        }
+    }
 }
 
 void fuzz_scene_run(const uint8_t *data, size_t size, const char *origin, fuzz_scene_result *res) {
