@@ -24,13 +24,12 @@
  * energy the viscous term removes becomes internal energy here).
  *
  * One step of size dt (the public code's two stages, reference §3):
- *   1. eulerian_momentum_rate: F_i = d(m v)_i/dt from the state n;
+ *   1. eulerian_momentum_rate: F_i = d(m v)_i/dt from the state n, kept as
+ *      v' = (m v)^{n+1} / m^n = v^n + dt F / m^n (field vel_stage);
  *   2. eulerian_mass_energy_rate: dm_i/dt and d(E w)_i/dt from (rho^n,
- *      v', p^n, E^n), where v' = (m v)^{n+1} / m^n = v^n + dt F / m^n is
- *      formed from the neighbours' F on the fly, and the vorticity of v'
- *      for the snapshots;
- *   3. eulerian_update: m, (m v)^{n+1} and v = (m v) / m, rho = m / w, E w,
- *      and p by the EOS.
+ *      v', p^n, E^n), and the vorticity of v' for the snapshots;
+ *   3. eulerian_update: m, (m v)^{n+1} = m^n v' and v = (m v) / m,
+ *      rho = m / w, E w, p by the EOS (and the compressible sound speed).
  * Each pass reads only what the passes before wrote: race-free without
  * atomics, the same sums in the same order on every backend.
  */
@@ -88,56 +87,61 @@
 
 /* The side of particle k of pair (i, j) along e_ij. */
 FN fluid_side fluid_side_make(const real rho, const real p, const vec v, const real energy,
-                              const vec e_ij) {
+                              const real c, const vec e_ij) {
     fluid_side s;
     s.rho = rho;
     s.p = p;
     s.v = v;
     s.u = -vec_dot(e_ij, v);
     s.energy = energy;
+    s.c = c;
     return s;
 }
 
-/* The pair's interface state by the formulation's Riemann solver. */
-FN fluid_state fluid_interface(CONSTANT sph_params *prm, const fluid_side l, const fluid_side r,
-                               const vec e_ij) {
+/* The formulation's Riemann solver (sph_eulerian.h) with its constants,
+ * formed once per particle: HLLC needs only eta (each side brings its own
+ * sound speed, the field sound_speed), the linearised solver Z and eta/c0. */
 #    if SPH_HAS_COMPRESSIBLE
-    return riemann_hllc(l, r, e_ij, prm->materials[0].gamma, prm->riemann_limit);
+typedef real fluid_solver;
+FN fluid_solver fluid_solver_make(CONSTANT sph_params *prm) {
+    return prm->riemann_limit;
+}
+FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const fluid_side r,
+                               const vec e_ij) {
+    return riemann_hllc(l, r, e_ij, k);
+}
+#        define SOUND_PARAM     , GLOBAL const real *restrict sound_speed
+#        define SOUND_OUT_PARAM , GLOBAL real *restrict sound_speed
+#        define SOUND_OF(k)     sound_speed[k]
 #    else
-    return riemann_linearised(l, r, e_ij, prm->materials[0].rho0, prm->materials[0].c0,
-                              prm->riemann_limit);
+typedef linearised_solver fluid_solver;
+FN fluid_solver fluid_solver_make(CONSTANT sph_params *prm) {
+    return linearised_solver_make(prm->materials[0].rho0, prm->materials[0].c0, prm->riemann_limit);
+}
+FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const fluid_side r,
+                               const vec e_ij) {
+    return riemann_linearised(l, r, e_ij, k);
+}
+#        define SOUND_PARAM
+#        define SOUND_OUT_PARAM
+#        define SOUND_OF(k) R(0)
 #    endif
-}
-
-/* The velocity of the second stage, (m v)^{n+1} / m^n = v^n + dt F / m^n
- * (the public code's v^{n+1} = mv / m^n), formed for i and its neighbours
- * alike. */
-FN vec velocity_after(GLOBAL const real *vel, GLOBAL const real *force, GLOBAL const real *mass,
-                      const int n, const int k, const real dt) {
-    return vec_axpy(vec_load(vel, n, k), dt / mass[k], vec_load(force, n, k));
-}
-
-/* The viscous denominator r_ij + 0.01 h of eq. 13 as the public code has it
- * (the 0.01 h keeps it finite for the closest pairs). */
-FN real viscous_distance(const real inv_r, const real h) {
-    return R(1) / inv_r + R(0.01) * h;
-}
 
 /* Once, before the first step: the pressure of the WC state by the EOS, or
- * the total energy of the compressible state from its pressure (both
- * particle-local). */
+ * the total energy and sound speed of the compressible state from its
+ * pressure (both particle-local). */
 KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
                              GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel,
                              GLOBAL const real *restrict vol,
-                             GLOBAL real *restrict pressure ENERGY_UPDATE_PARAMS) {
+                             GLOBAL real *restrict pressure ENERGY_UPDATE_PARAMS SOUND_OUT_PARAM) {
     const int i = ITEM_ID;
     if (i >= n) return;
 #    if SPH_HAS_COMPRESSIBLE
     (void)energy_rate;
     const vec v = vec_load(vel, n, i);
-    const real r = (real)rho[i];
-    energy[i] =
-        vol[i] * (pressure[i] / (prm->materials[0].gamma - R(1)) + R(0.5) * r * vec_dot(v, v));
+    const real r = (real)rho[i], gamma = prm->materials[0].gamma;
+    energy[i] = vol[i] * (pressure[i] / (gamma - R(1)) + R(0.5) * r * vec_dot(v, v));
+    sound_speed[i] = ideal_gas_sound_speed(pressure[i], r, gamma);
 #    else
     (void)vel;
     (void)vol;
@@ -148,12 +152,14 @@ KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
 
 /* Once, after the rebuild: each stored pair gradient dwv e_ij becomes
  * (B_i + B_j)/2 dwv e_ij (eq. 18): e <- g/|g|, dwv <- dwv |g| with
- * g = (B_i + B_j)/2 e, and r <- r (e_old . e_new) as the public code keeps
- * it for the viscous term (floored at 0.1 r: a pair whose corrected
- * direction turned by more than 84 degrees would otherwise get a viscous
- * denominator near zero).  g_ji = -g_ij exactly, so the pair terms stay
- * antisymmetric. */
-KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap,
+ * g = (B_i + B_j)/2 e; r <- r (e_old . e_new) as the public code keeps it
+ * for the viscous term (floored at 0.1 r: a pair whose corrected direction
+ * turned by more than 84 degrees would otherwise get a viscous denominator
+ * near zero), and the slot pair_inv_r then holds the viscous weight
+ * 1 / (r + 0.01 h) of eq. 13 as the public code has it (the 0.01 h keeps it
+ * finite for the closest pairs): the step has no division per pair.
+ * g_ji = -g_ij exactly, so the pair terms stay antisymmetric. */
+KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap, CONSTANT sph_params *prm,
                                    GLOBAL const int *restrict nbr_count,
                                    GLOBAL const int *restrict nbr_j,
                                    GLOBAL const real *restrict bmat, GLOBAL real *restrict pair_e,
@@ -162,6 +168,7 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap,
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
+    const real offset = R(0.01) * prm->h;
     const mat b_i = sym_load(bmat, n, i);
     const int count = nbr_count[i];
     for (int k = 0; k < count; ++k) {
@@ -172,32 +179,40 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap,
         const mat b = mat_scale(mat_add(b_i, sym_load(bmat, n, j)), R(0.5));
         const vec g = mat_vec(b, e);
         const real norm = sqrt(vec_dot(g, g));
-        if (!(norm > R(0))) continue;
-        const vec e_new = vec_scale(g, R(1) / norm);
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e_new.c[a];
-        pair_dwv[slot] *= norm;
-        pair_inv_r[slot] /= fmax(vec_dot(e, e_new), R(0.1));
+        real turn = R(1);
+        if (norm > R(0)) {
+            const vec e_new = vec_scale(g, R(1) / norm);
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) pair_e[a * stride + slot] = e_new.c[a];
+            pair_dwv[slot] *= norm;
+            turn = fmax(vec_dot(e, e_new), R(0.1));
+        }
+        pair_inv_r[slot] = R(1) / (turn / pair_inv_r[slot] + offset);
     }
 }
 
-/* Stage 1: F_i = d(m v)_i/dt, the Riemann momentum flux and the viscous
- * force, from the state n. */
-KERNEL void eulerian_momentum_rate(
-    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
-    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
-    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-    GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
-    GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
-    GLOBAL const real *restrict pressure,
-    GLOBAL real *restrict force ENERGY_PARAM FIXED_PARAM KIND_PARAMS WALL_FORCE_PARAM) {
+/* Stage 1: the momentum rate F_i = d(m v)_i/dt (the Riemann momentum flux
+ * and the viscous force, from the state n), stored as the second stage's
+ * velocity v'_i = (m v)^{n+1} / m^n = v_i + dt F_i / m_i (the public code's
+ * v^{n+1} = mv / m^n); fixed-state and wall particles keep v' = v. */
+KERNEL void
+eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
+                       CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
+                       GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
+                       GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
+                       GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel,
+                       GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+                       GLOBAL const real *restrict pressure,
+                       GLOBAL real *restrict vel_stage ENERGY_PARAM SOUND_PARAM FIXED_PARAM
+                           KIND_PARAMS WALL_FORCE_PARAM) {
     STEP_DT_BEGIN;
-    (void)dt;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
-    const real h = prm->h, mu = prm->materials[0].viscosity;
+    const real mu = prm->materials[0].viscosity;
+    const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
     const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
+    const real c_i = SOUND_OF(i);
     vec flux = vec_zero(), visc = vec_zero();
     /* wall pairs: their pressure flux and velocity sums */
     vec wall_flux = vec_zero(), wall_visc = vec_zero();
@@ -209,6 +224,7 @@ KERNEL void eulerian_momentum_rate(
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
         const real dwv = pair_dwv[slot];
+        const real visc_w = dwv * pair_inv_r[slot]; /* dW w_j / (r + 0.01 h) */
 #    if SPH_FLUID_KINDS
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* the wall (at rest): the Riemann problem along the wall
@@ -218,23 +234,25 @@ KERNEL void eulerian_momentum_rate(
              * §4) */
             const vec n_j = vec_load(normal, n, j);
             const fluid_state s = fluid_interface(
-                prm, fluid_side_make(rho_i, p_i, v_i, energy_i, n_j),
-                fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, n_j), n_j);
+                solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, n_j),
+                fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, c_i, n_j), n_j);
             wall_flux =
                 vec_axpy(wall_flux, dwv, vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e));
-            wall_visc = vec_axpy(wall_visc, dwv / viscous_distance(pair_inv_r[slot], h), v_i);
+            wall_visc = vec_axpy(wall_visc, visc_w, v_i);
             continue;
         }
 #    endif
         const vec v_j = vec_load(vel, n, j);
         const fluid_state s = fluid_interface(
-            prm, fluid_side_make(rho_i, p_i, v_i, energy_i, e),
-            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), e), e);
+            solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
+            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), SOUND_OF(j), e),
+            e);
         const vec pair = vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e);
         flux = vec_axpy(flux, dwv, pair);
-        visc = vec_axpy(visc, dwv / viscous_distance(pair_inv_r[slot], h), vec_sub(v_i, v_j));
+        visc = vec_axpy(visc, visc_w, vec_sub(v_i, v_j));
     }
     const real w_i = vol[i];
+    vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #    if SPH_FLUID_WALLS
     /* the wall pairs' share of F_i: pressure part, viscous part */
     const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
@@ -245,48 +263,45 @@ KERNEL void eulerian_momentum_rate(
             wall_force[(SPH_DIM + a) * n + i] = wall_v.c[a];
         }
     }
-    vec_store(force, n, i,
-              vec_add(vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc),
-                      vec_add(wall_p, wall_v)));
+    force = vec_add(force, vec_add(wall_p, wall_v));
 #    else
     (void)wall_flux;
     (void)wall_visc;
-    vec_store(force, n, i, vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc));
 #    endif
+    vec_store(vel_stage, n, i, vec_axpy(v_i, dt / mass[i], force));
 }
 
-/* Stage 2: dm_i/dt and d(E w)_i/dt from (rho^n, v^{n+1}, p^n, E^n), and
- * the vorticity of v^{n+1} (curl v = sum_j (v_j - v_i) x grad'W_ij w_j: 2D
- * its z component, 3D all three). */
-KERNEL void
-eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
-                          CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
-                          GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
-                          GLOBAL const real *restrict pair_dwv,
-                          GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
-                          GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
-                          GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
-                          GLOBAL const real *restrict force, GLOBAL real *restrict mass_rate,
-                          GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS KIND_PARAMS) {
+/* Stage 2: dm_i/dt and d(E w)_i/dt from (rho^n, v', p^n, E^n), and the
+ * vorticity of v' (curl v = sum_j (v_j - v_i) x grad'W_ij w_j: 2D its z
+ * component, 3D all three). */
+KERNEL void eulerian_mass_energy_rate(
+    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
+    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+    GLOBAL const real *restrict vel_stage, GLOBAL const real *restrict vol,
+    GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
+    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
+    (void)dt;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
-    const real h = prm->h;
-    const vec v_i = velocity_after(vel, force, mass, n, i, dt);
+    const fluid_solver solver = fluid_solver_make(prm);
+    const vec v_i = vec_load(vel_stage, n, i);
     const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
+    const real c_i = SOUND_OF(i);
     real mass_flux = R(0);
 #    if SPH_HAS_COMPRESSIBLE
     real energy_flux = R(0), heat = R(0);
 #    else
-    (void)h;
     (void)pair_inv_r;
 #    endif
-    real curl[NSPIN];
-    UNROLL for (int a = 0; a < NSPIN; ++a) curl[a] = R(0);
 #    if SPH_FLUID_KINDS
     (void)normal;
 #    endif
+    real curl[NSPIN];
+    UNROLL for (int a = 0; a < NSPIN; ++a) curl[a] = R(0);
     /* a wall particle's rates are never used (the update leaves it alone) */
     const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
     for (int k = 0; k < count; ++k) {
@@ -295,11 +310,11 @@ eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
         const real dwv = pair_dwv[slot];
+        const vec g = vec_scale(e, dwv);
 #    if SPH_FLUID_KINDS
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* no mass crosses the wall (against the mirrored state the
              * linearised solver's v* is 0); the vorticity sees it at rest */
-            const vec g = vec_scale(e, dwv);
 #        if SPH_DIM == 2
             curl[0] += -v_i.c[1] * g.c[0] + v_i.c[0] * g.c[1];
 #        else
@@ -310,14 +325,14 @@ eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
             continue;
         }
 #    endif
-        const vec v_j = velocity_after(vel, force, mass, n, j, dt);
+        const vec v_j = vec_load(vel_stage, n, j);
         const fluid_state s = fluid_interface(
-            prm, fluid_side_make(rho_i, p_i, v_i, energy_i, e),
-            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), e), e);
+            solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
+            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), SOUND_OF(j), e),
+            e);
         const real vn = vec_dot(s.v, e);
         mass_flux += s.rho * vn * dwv;
         const vec dv = vec_sub(v_j, v_i);
-        const vec g = vec_scale(e, dwv);
 #    if SPH_DIM == 2
         curl[0] += dv.c[1] * g.c[0] - dv.c[0] * g.c[1];
 #    else
@@ -330,7 +345,7 @@ eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         /* the pair's viscous force on i dotted with the pair's mean velocity:
          * antisymmetric viscous force, symmetric mean, so the viscous work
          * cancels in the sum over all particles */
-        const vec f_pair = vec_scale(dv, -dwv / viscous_distance(pair_inv_r[slot], h));
+        const vec f_pair = vec_scale(dv, -dwv * pair_inv_r[slot]);
         heat += vec_dot(f_pair, vec_scale(vec_add(v_i, v_j), R(0.5)));
 #    endif
     }
@@ -342,27 +357,28 @@ eulerian_mass_energy_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
 #    endif
 }
 
-/* Stage 3, per particle: the conserved variables and the pressure. */
-KERNEL void eulerian_update(
-    ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm, GLOBAL real *restrict vel,
-    GLOBAL real *restrict mass, GLOBAL hreal *restrict rho, GLOBAL const real *restrict vol,
-    GLOBAL real *restrict pressure, GLOBAL const real *restrict force,
-    GLOBAL const real *restrict mass_rate ENERGY_UPDATE_PARAMS FIXED_PARAM KIND_PARAMS) {
+/* Stage 3, per particle: the conserved variables and the pressure.  The
+ * momentum is the conserved one: (m v)^{n+1} = m^n v' (= m^n v^n + dt F),
+ * then v^{n+1} = (m v)^{n+1} / m^{n+1} (the public code carries m v
+ * itself; keeping v^{n+1} = v' with the new mass would create momentum
+ * dt (dm/dt) v every step, and a shock tube's waves would run at the wrong
+ * speeds: the Sod tube's star state came out p* = 0.189, u* = 1.21 against
+ * the exact 0.303, 0.927). */
+KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
+                            GLOBAL real *restrict vel, GLOBAL const real *restrict vel_stage,
+                            GLOBAL real *restrict mass, GLOBAL hreal *restrict rho,
+                            GLOBAL const real *restrict vol, GLOBAL real *restrict pressure,
+                            GLOBAL const real *restrict mass_rate ENERGY_UPDATE_PARAMS
+                                SOUND_OUT_PARAM FIXED_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n || IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL) return;
 #    if SPH_FLUID_KINDS
     (void)normal;
 #    endif
-    /* the conserved momentum: (m v)^{n+1} = m^n v^n + dt F, then
-     * v^{n+1} = (m v)^{n+1} / m^{n+1} (the public code carries m v itself;
-     * keeping v^{n+1} = v^n + dt F / m^n with the new mass would create
-     * momentum dt (dm/dt) v every step, and a shock tube's waves would run
-     * at the wrong speeds) */
     const real m_old = mass[i];
     const real m = m_old + dt * mass_rate[i];
-    const vec v = vec_scale(
-        vec_axpy(vec_scale(vec_load(vel, n, i), m_old), dt, vec_load(force, n, i)), R(1) / m);
+    const vec v = vec_scale(vec_load(vel_stage, n, i), m_old / m);
     vec_store(vel, n, i, v);
     mass[i] = m;
     const real r = m / vol[i];
@@ -370,7 +386,10 @@ KERNEL void eulerian_update(
 #    if SPH_HAS_COMPRESSIBLE
     const real e = energy[i] + dt * energy_rate[i];
     energy[i] = e;
-    pressure[i] = eos_ideal_gas(e / vol[i], r, v, prm->materials[0].gamma);
+    const real gamma = prm->materials[0].gamma;
+    const real p = eos_ideal_gas(e / vol[i], r, v, gamma);
+    pressure[i] = p;
+    sound_speed[i] = ideal_gas_sound_speed(p, r, gamma);
 #    else
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
 #    endif

@@ -24,6 +24,7 @@ typedef struct {
     real rho, p, u; /* density, pressure, normal velocity -e_ij . v */
     vec v;
     real energy; /* total energy per unit volume (compressible), else 0 */
+    real c;      /* sound speed (compressible: the particle's own), else 0 */
 } fluid_side;
 
 typedef struct {
@@ -57,15 +58,26 @@ FN real eulerian_limiter(const real du, const real c, const real eta) {
  *   p* = pbar + Z (u_l - u_r) beta / 2,
  *   v* = vbar - e_ij (p_i - p_j) beta^2 / (2 Z)   (u* = ubar + (p_l - p_r) beta^2 / (2 Z)),
  *   rho* = rhobar. */
+/* Its constants, formed once per particle rather than per pair (no
+ * division in the pair loop): Z / 2, 1 / (2 Z) and eta / c0 (0: unlimited). */
+typedef struct {
+    real half_z, inv_two_z, eta_over_c0;
+} linearised_solver;
+FN linearised_solver linearised_solver_make(const real rho0, const real c0, const real eta) {
+    linearised_solver k;
+    k.half_z = R(0.5) * rho0 * c0;
+    k.inv_two_z = R(1) / (R(2) * rho0 * c0);
+    k.eta_over_c0 = eta > R(0) ? eta / c0 : R(0);
+    return k;
+}
 FN fluid_state riemann_linearised(const fluid_side l, const fluid_side r, const vec e_ij,
-                                  const real rho0, const real c0, const real eta) {
-    const real z = rho0 * c0;
+                                  const linearised_solver k) {
     const real du = l.u - r.u;
-    const real beta = eulerian_limiter(du, c0, eta);
+    const real beta = k.eta_over_c0 > R(0) ? fmin(k.eta_over_c0 * fmax(du, R(0)), R(1)) : R(1);
     fluid_state s;
     s.rho = R(0.5) * (l.rho + r.rho);
-    s.p = R(0.5) * (l.p + r.p) + R(0.5) * z * du * beta;
-    s.v = vec_axpy(vec_scale(vec_add(l.v, r.v), R(0.5)), -R(0.5) * (l.p - r.p) * beta * beta / z,
+    s.p = R(0.5) * (l.p + r.p) + k.half_z * du * beta;
+    s.v = vec_axpy(vec_scale(vec_add(l.v, r.v), R(0.5)), -(l.p - r.p) * beta * beta * k.inv_two_z,
                    e_ij);
     s.energy = R(0);
     return s;
@@ -89,9 +101,8 @@ FN fluid_state riemann_linearised(const fluid_side l, const fluid_side r, const 
  * A degenerate denominator (two vacuum-like sides) falls back to the mean
  * normal velocity, as the public code does below 1e-14. */
 FN fluid_state riemann_hllc(const fluid_side l, const fluid_side r, const vec e_ij,
-                            const real gamma, const real eta) {
-    const real c_l = ideal_gas_sound_speed(l.p, l.rho, gamma);
-    const real c_r = ideal_gas_sound_speed(r.p, r.rho, gamma);
+                            const real eta) {
+    const real c_l = l.c, c_r = r.c;
     const real s_l = l.u - c_l, s_r = r.u + c_r;
     const real cbar = (l.rho * c_l + r.rho * c_r) / (l.rho + r.rho);
     const real beta = eulerian_limiter(l.u - r.u, cbar, eta);

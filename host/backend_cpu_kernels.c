@@ -133,9 +133,11 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 #    if SPH_HAS_COMPRESSIBLE
 #        define ENERGY_FIELD_ARG       , F_REAL(b, FIELD_ENERGY)
 #        define ENERGY_RATE_FIELD_ARGS , F_REAL(b, FIELD_ENERGY), F_REAL(b, FIELD_ENERGY_RATE)
+#        define SOUND_FIELD_ARG        , F_REAL(b, FIELD_SOUND_SPEED)
 #    else
 #        define ENERGY_FIELD_ARG
 #        define ENERGY_RATE_FIELD_ARGS
+#        define SOUND_FIELD_ARG
 #    endif
 /* walls and the far field (NULL buffers when the scene has neither) */
 #    define KIND_FIELD_ARGS , F_U8(b, FIELD_KIND), F_REAL(b, FIELD_NORMAL)
@@ -154,8 +156,8 @@ static void far_field_pass(cpu_buffers *b) {
 }
 
 /* Once after the rebuild of a fluid run (eulerian_step.cl): the pressure
- * (WC) or total energy (compressible) of the initial state, the corrected
- * pair gradients of eq. 18, and the far field's first blend. */
+ * (WC) or total energy and sound speed (compressible) of the initial state,
+ * the corrected pair gradients of eq. 18, and the far field's first blend. */
 static void fluid_setup_impl(cpu_buffers *b) {
     const int n = b->n, cap = b->cap;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
@@ -165,10 +167,10 @@ static void fluid_setup_impl(cpu_buffers *b) {
         for (int i = 0; i < n; ++i)
             eulerian_prepare(i, n, prm, F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
                              F_REAL(b, FIELD_VOL),
-                             F_REAL(b, FIELD_PRESSURE) ENERGY_RATE_FIELD_ARGS);
+                             F_REAL(b, FIELD_PRESSURE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG);
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
-            eulerian_correct_pairs(i, n, cap, b->nbr_count, b->nbr_j, F_REAL(b, FIELD_BMAT),
+            eulerian_correct_pairs(i, n, cap, prm, b->nbr_count, b->nbr_j, F_REAL(b, FIELD_BMAT),
                                    (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r);
         far_field_pass(b);
     }
@@ -191,23 +193,24 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
             eulerian_momentum_rate(
                 i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                 (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
-                F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                F_REAL(b, FIELD_FORCE) ENERGY_FIELD_ARG, F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS,
-                F_REAL(b, FIELD_WALL_FORCE));
+                F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                F_REAL(b, FIELD_PRESSURE),
+                F_REAL(b, FIELD_VEL_STAGE) ENERGY_FIELD_ARG SOUND_FIELD_ARG,
+                F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE));
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             eulerian_mass_energy_rate(
                 i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                 (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
-                F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_FORCE), F_REAL(b, FIELD_MASS_RATE),
-                F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS KIND_FIELD_ARGS);
+                F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
+                F_REAL(b, FIELD_MASS_RATE),
+                F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS);
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
-            eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
-                            F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                            F_REAL(b, FIELD_FORCE),
-                            F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS,
+            eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VEL_STAGE),
+                            F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
+                            F_REAL(b, FIELD_PRESSURE),
+                            F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
                             F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
         far_field_pass(b);
 #    pragma omp for schedule(static)

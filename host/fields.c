@@ -46,10 +46,11 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
          * sit at the top of its neighbour row (device/sph_contact.h) */
         [FIELD_CONTACT_COUNT] = {"contact_count", FIELD_TYPE_INT32, 1, f->contact},
         [FIELD_PRESSURE] = {"pressure", FIELD_TYPE_REAL, 1, fluid},
-        [FIELD_FORCE] = {"force", FIELD_TYPE_REAL, d, fluid},
+        [FIELD_VEL_STAGE] = {"vel_stage", FIELD_TYPE_REAL, d, fluid},
         [FIELD_MASS_RATE] = {"mass_rate", FIELD_TYPE_REAL, 1, fluid},
         [FIELD_ENERGY] = {"energy", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_ENERGY_RATE] = {"energy_rate", FIELD_TYPE_REAL, 1, compressible},
+        [FIELD_SOUND_SPEED] = {"sound_speed", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_VORTICITY] = {"vorticity", FIELD_TYPE_REAL, nspin, fluid},
         [FIELD_KIND] = {"kind", FIELD_TYPE_U8, 1, fluid && f->fluid_kinds},
         [FIELD_NORMAL] = {"normal", FIELD_TYPE_REAL, d, fluid && f->fluid_kinds},

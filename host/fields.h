@@ -43,10 +43,11 @@ typedef enum {
     /* fluids (device/eulerian_step.cl): FIELD_MASS is the conserved mass
      * rho w there, FIELD_VOL the fixed volume w */
     FIELD_PRESSURE,    /* pressure p, by the EOS */
-    FIELD_FORCE,       /* d(m v)/dt: Riemann momentum flux and viscous force */
+    FIELD_VEL_STAGE,   /* the second stage's velocity v + dt F / m (F = d(m v)/dt) */
     FIELD_MASS_RATE,   /* dm/dt */
     FIELD_ENERGY,      /* total energy of the particle, E w (compressible) */
     FIELD_ENERGY_RATE, /* d(E w)/dt (compressible) */
+    FIELD_SOUND_SPEED, /* sqrt(gamma p / rho) (compressible) */
     FIELD_VORTICITY,   /* curl v (2D: its z component) */
     FIELD_KIND,        /* SPH_PARTICLE_* (walls or a far field) */
     FIELD_NORMAL,      /* wall particles: normal into the fluid; far field: outward */

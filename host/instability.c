@@ -39,6 +39,9 @@ static sph_status find_nonfinite(sph_backend *be, host_state *h, int *slot, sph_
     for (int f = 0; f < FIELD_COUNT && *slot < 0; ++f) {
         const sph_field_info *info = &be->fields[f];
         if (!info->present || !sph_field_is_real(info->type)) continue;
+        /* derived from the pressure: a negative one makes it NaN, and
+         * find_nonpositive names the pressure itself */
+        if (f == FIELD_SOUND_SPEED) continue;
         double *x = alloc_field(be, (sph_field)f);
         if (!x) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
         const sph_status st = be->ops->download(be, (sph_field)f, x, err);

@@ -2,8 +2,11 @@
  *
  * Lattice placement as in the reference code: particles sit at the centres
  * of a dp-grid anchored at the lattice origin (default: the lower corner of
- * the union of all bodies' bounding boxes); a grid point belongs to the first
- * body (in scene order) whose shape contains it.  Particles are numbered body
+ * the union of the matter bodies' bounding boxes; along a periodic axis the
+ * boundary's lower corner); a grid point belongs to the first body (in scene
+ * order) whose shape contains it.  A fluid scene's wall bodies have lattices
+ * of their own spacing (bodies.X.spacing dp, aligned with the origin), and a
+ * matter point inside a wall's shape is dropped.  Particles are numbered body
  * by body, then z, y, x with x running fastest; `id` is that number and stays
  * with the particle when the backends reorder particles by cell.
  *

@@ -883,10 +883,6 @@ static const bad_row CYL_BAD[] = {
     {"a wall's constraints", "shape = \"disc\";",
      "shape = \"disc\"; constraints = ( { type = \"fixed\"; region = \"disc\"; } );", NULL,
      "%F:15: bodies.cyl.constraints: body 'cyl' is a wall"},
-    {"a relaxed matter body beside a wall", "shape = \"box\";",
-     "shape = \"box\"; placement = \"relaxed\";", NULL,
-     "%F:14: bodies.f.placement: a relaxed placement of a matter body is not supported with wall "
-     "bodies yet"},
     /* spacing */
     {"spacing 0", "shape = \"disc\";", "shape = \"disc\"; spacing = 0.0;", NULL,
      "%F:15: bodies.cyl.spacing: the body's particle spacing over dp must be in (0, 1], got 0"},
