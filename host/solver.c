@@ -122,8 +122,11 @@ static sph_status trip(const sph_solver_args *a, sph_trip_kind kind, double t, c
                         "instability at t = %.6g s: %s%s; the run stopped there (%s), results "
                         "up to it are kept",
                         t, quantity, place,
-                        kind == SPH_TRIP_NONFINITE ? "a non-finite state always stops a run"
-                                                   : "monitor.action = \"stop\"");
+                        kind == SPH_TRIP_NONFINITE
+                            ? (where.nonpositive
+                                   ? "a fluid state that cannot go on always stops a run"
+                                   : "a non-finite state always stops a run")
+                            : "monitor.action = \"stop\"");
     if (!a->quiet)
         fprintf(stderr, "sphsolid: warning: instability at t = %.6g s: %s%s\n", t, quantity, place);
     return SPH_OK;
@@ -367,7 +370,11 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             geometry_shift(sc, h, c0, u_ref, v0max2, 0.0, fmin(sc->output_interval, sc->end_time));
         if (!st) st = be->ops->rebuild(be, &info, err);
         max_speed2 = info.max_speed2;
-        if (!st && !isfinite(max_speed2))
+        /* fluids: particles.c has checked every initial density and
+         * pressure; a speed that still overflows (c + |v| beyond the
+         * doubles) could not size a step (solids go on to the monitor,
+         * which reports the overflow) */
+        if (!st && fluid && !isfinite(max_speed2))
             st = sph_fail(err, SPH_ERR_INPUT,
                           "%s: the initial state has a non-finite speed or a density or "
                           "pressure that is not positive",

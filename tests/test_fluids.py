@@ -100,6 +100,22 @@ for label, scene in (("weakly compressible", TGV), ("ideal gas", TGV_GAS)):
     if summ is None:
         continue
     check(summ["particle_count"] == 400, "%s: 400 particles (%d)" % (label, summ["particle_count"]))
+    # only what a fluid scene uses is allocated and compiled in (host/fields.c): the fluid's
+    # conserved variables and rates, none of the solid's stress, rotation or acoustic buffers
+    buffers = {b["name"] for b in summ["memory"]["buffers"]}
+    needed = {"pressure", "vel_stage", "mass_rate", "vorticity"} | (
+        {"energy", "energy_rate", "sound_speed"} if scene == TGV_GAS else set())
+    solid = {"tau", "drho", "acc_diss", "acc_shear", "dacc_shear", "spin", "defgrad", "pk1"}
+    unused = solid | (set() if scene == TGV_GAS else {"energy", "energy_rate", "sound_speed"})
+    check(needed <= buffers, "%s: the fluid's buffers allocated (missing %s)"
+          % (label, sorted(needed - buffers)))
+    check(not (unused & buffers), "%s: no buffer it does not use (%s)"
+          % (label, sorted(unused & buffers)))
+    if BACKEND == "opencl":
+        kernels = {k.split("(")[0] for k in summ["program_kernels"]}
+        check("eulerian_momentum_rate" in kernels and not any(
+            k.startswith(("acoustic_", "tl_")) for k in kernels),
+            "%s: the program has the fluid passes and no solid pass (%s)" % (label, sorted(kernels)))
     ke0, mass0 = ts["kinetic_energy"][0], ts["mass"][0]
     check(abs(ke0 - 0.25) < 1e-12, "%s: KE(0) = 0.25 on the lattice (%.17g)" % (label, ke0))
     dm = rel_change(ts, "mass")
