@@ -138,6 +138,9 @@ sph_status sph_h5_write(const sph_h5_writer *w, hid_t loc, const char *name, hid
         if (dcpl >= 0) H5Pclose(dcpl);
         return write_failed(w, name, err);
     }
+    /* no modification time in the object headers: two runs that compute the
+     * same values write the same bytes, whenever they run */
+    H5Pset_obj_track_times(dcpl, 0);
     if (total > COMPRESS_ABOVE) {
         /* chunks of whole rows, about CHUNK_VALUES values each */
         hsize_t chunk[2] = {dims[0], rank > 1 ? dims[1] : 1};
@@ -199,7 +202,11 @@ sph_status sph_h5_attr_int64s(const sph_h5_writer *w, hid_t loc, const char *nam
 sph_status sph_h5_group(const sph_h5_writer *w, hid_t loc, const char *name, hid_t *out,
                         sph_error *err) {
     errno = 0;
-    *out = H5Gcreate2(loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    /* no modification time (sph_h5_write) */
+    const hid_t gcpl = H5Pcreate(H5P_GROUP_CREATE);
+    if (gcpl >= 0) H5Pset_obj_track_times(gcpl, 0);
+    *out = H5Gcreate2(loc, name, H5P_DEFAULT, gcpl >= 0 ? gcpl : H5P_DEFAULT, H5P_DEFAULT);
+    if (gcpl >= 0) H5Pclose(gcpl);
     return *out < 0 ? write_failed(w, name, err) : SPH_OK;
 }
 
