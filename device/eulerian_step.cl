@@ -16,8 +16,10 @@
  *   dm_i/dt      = -2 w_i sum_j (rho* v*) . e_ij dwv
  *   d(m v)_i/dt  = -2 w_i sum_j (rho* v* (v* . e_ij) + p* e_ij) dwv + f_i^visc
  *   d(E w)_i/dt  = -2 w_i sum_j (E* + p*) (v* . e_ij) dwv + viscous work
- * Viscous force, eq. 13 as the public code discretises it:
- *   f_i^visc = 2 mu w_i sum_j (v_i - v_j) / (r_ij + 0.01 h) dwv.
+ * Viscous force, eq. 13 (Morris et al. 1997's Laplacian):
+ *   f_i^visc = 2 mu w_i sum_j (v_i - v_j) r_ij / (r_ij^2 + eps^2) dwv,
+ * eps = 0.01 h; or as the public code discretises it, with 1 / (r_ij + eps)
+ * in place of r_ij / (r_ij^2 + eps^2) (method.viscous_regularization).
  * Its work enters the energy pairwise, sum_j f_ij . (v_i + v_j)/2 with f_ij
  * the pair's viscous force, so that the total energy is conserved (the
  * public code adds f_i . v_i, which it flags "not conservative"; the kinetic
@@ -155,9 +157,10 @@ KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
  * g = (B_i + B_j)/2 e; r <- r (e_old . e_new) as the public code keeps it
  * for the viscous term (floored at 0.1 r: a pair whose corrected direction
  * turned by more than 84 degrees would otherwise get a viscous denominator
- * near zero), and the slot pair_inv_r then holds the viscous weight
- * 1 / (r + 0.01 h) of eq. 13 as the public code has it (the 0.01 h keeps it
- * finite for the closest pairs): the step has no division per pair.
+ * near zero), and the slot pair_inv_r then holds the viscous weight of
+ * eq. 13, r / (r^2 + eps^2) or the public code's 1 / (r + eps), eps = 0.01 h
+ * (method.viscous_regularization, host/scene.h): the step has no division
+ * per pair.
  * g_ji = -g_ij exactly, so the pair terms stay antisymmetric. */
 KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap, CONSTANT sph_params *prm,
                                    GLOBAL const int *restrict nbr_count,
@@ -168,7 +171,7 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap, CONSTA
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap;
-    const real offset = R(0.01) * prm->h;
+    const real eps_linear = prm->viscous_eps_linear, eps_squared = prm->viscous_eps_squared;
     const mat b_i = sym_load(bmat, n, i);
     const int count = nbr_count[i];
     for (int k = 0; k < count; ++k) {
@@ -186,7 +189,8 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap, CONSTA
             pair_dwv[slot] *= norm;
             turn = fmax(vec_dot(e, e_new), R(0.1));
         }
-        pair_inv_r[slot] = R(1) / (turn / pair_inv_r[slot] + offset);
+        const real r = turn / pair_inv_r[slot];
+        pair_inv_r[slot] = r / (r * (r + eps_linear) + eps_squared);
     }
 }
 
@@ -224,7 +228,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
         const real dwv = pair_dwv[slot];
-        const real visc_w = dwv * pair_inv_r[slot]; /* dW w_j / (r + 0.01 h) */
+        const real visc_w = dwv * pair_inv_r[slot]; /* dW w_j r / (r^2 + eps^2) */
 #    if SPH_FLUID_KINDS
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* the wall (at rest): the Riemann problem along the wall

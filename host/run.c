@@ -243,6 +243,11 @@ static json_object *resolved_json(const sph_simulation *sim) {
                            json_object_new_boolean(sc->acceleration_criterion));
     json_object_object_add(res, "riemann_limiter",
                            json_object_new_double(sc->riemann_limiter_slope));
+    if (SPH_FORMULATION_IS_EULERIAN(sc->formulation))
+        json_object_object_add(res, "viscous_regularization",
+                               sph_json_string(sc->viscous_regularization == SPH_VISCOUS_LINEAR
+                                                   ? "linear"
+                                                   : "squared"));
     json_object_object_add(res, "end_time", json_object_new_double(sc->end_time));
     json_object_object_add(res, "output_interval", json_object_new_double(sc->output_interval));
     json_object_object_add(res, "gravity", vector_json(sc->gravity, sc->dim));

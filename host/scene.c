@@ -1020,7 +1020,8 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
     if (st || (st = check_keys(L, g,
                                KEYS("formulation", "rotation", "torque_projection", "kernel",
                                     "smoothing_ratio", "xi_e", "xi_g", "riemann_limiter",
-                                    "artificial_stress", "hourglass_alpha"))))
+                                    "viscous_regularization", "artificial_stress",
+                                    "hourglass_alpha"))))
         return st;
     int formulation = 0, rotation = 0, kernel = 0;
     const config_setting_t *form_at;
@@ -1131,8 +1132,21 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
     const double limiter = formulation == SPH_FORMULATION_EULERIAN_WC             ? 15.0
                            : formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE ? 1.0
                                                                                   : 0.0;
-    return get_float(L, g, "riemann_limiter", false, limiter, 0, false, INFINITY, false,
-                     &sc->riemann_limiter_slope);
+    if ((st = get_float(L, g, "riemann_limiter", false, limiter, 0, false, INFINITY, false,
+                        &sc->riemann_limiter_slope)))
+        return st;
+    const config_setting_t *visc_at = config_setting_get_member(g, "viscous_regularization");
+    if (!eulerian && visc_at)
+        return fail_at(L, visc_at, NULL,
+                       "is for the fluid formulations (\"eulerian-wc\" and "
+                       "\"eulerian-compressible\"), got formulation \"%s\"",
+                       FORMULATION_NAMES[formulation]);
+    int regularization = SPH_VISCOUS_SQUARED;
+    if ((st = get_keyword(L, g, "viscous_regularization", false, SPH_VISCOUS_SQUARED,
+                          KEYS("squared", "linear"), &regularization, NULL)))
+        return st;
+    sc->viscous_regularization = (sph_viscous_regularization)regularization;
+    return SPH_OK;
 }
 
 static sph_status parse_time(loader *L, const config_setting_t *root) {

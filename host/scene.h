@@ -56,6 +56,13 @@ typedef enum {
     SPH_ROTATION_PER_PARTICLE = 2
 } sph_rotation;
 typedef enum { SPH_STEPPING_DUAL = 0, SPH_STEPPING_SINGLE = 1 } sph_stepping;
+/* How the viscous term of the fluids (004 eq. 13) keeps 1/r finite for the
+ * closest pairs, with eps = 0.01 h: r / (r^2 + eps^2) (Morris et al. 1997;
+ * relative change (eps/r)^2 <= 1e-4, so the viscosity converges) or
+ * 1 / (r + eps) as the public reference code has it (about 1 % less
+ * viscosity at any resolution: the Taylor-Green kinetic energy then stops
+ * converging below dp = 1/50, docs/fluids.md) */
+typedef enum { SPH_VISCOUS_SQUARED = 0, SPH_VISCOUS_LINEAR = 1 } sph_viscous_regularization;
 /* values equal the device's KERNEL_* */
 typedef enum {
     SPH_KERNEL_WENDLAND_C2 = 0,
@@ -259,6 +266,7 @@ typedef struct {
     double art_epsilon, art_exponent; /* OAS artificial stress: 0.3, 4 */
     double hourglass_alpha;           /* TLSPH hourglass control (002) */
     double riemann_limiter_slope;     /* 0: unlimited dissipation */
+    sph_viscous_regularization viscous_regularization; /* fluids */
     /* contact between bodies (scenes with several bodies, device/sph_contact.h)
      * and with walls (device/sph_wall.h): factors of the impedance term
      * (1/2 rho0 c0 u between bodies, rho0 c0 u at a wall) and of the penalty

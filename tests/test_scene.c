@@ -418,6 +418,10 @@ static const bad_row BAD[] = {
     {"smoothing ratio out of range", "rotation = \"averaged\";",
      "rotation = \"averaged\"; smoothing_ratio = 2.5;", NULL,
      "%F:4: method.smoothing_ratio: must be in [1, 2], got 2.5"},
+    {"viscous regularization on a solid", "rotation = \"averaged\";",
+     "rotation = \"averaged\"; viscous_regularization = \"linear\";", NULL,
+     "%F:4: method.viscous_regularization: is for the fluid formulations (\"eulerian-wc\" and "
+     "\"eulerian-compressible\"), got formulation \"enog-a\""},
     {"duplicate body name", "shape = \"block\"; }\n",
      "shape = \"block\"; },\n  { name = \"a\"; material = \"steel\"; shape = \"block\"; }\n", NULL,
      "%F:14: bodies.[1].name: duplicate body name 'a'"},
@@ -727,6 +731,10 @@ static const bad_row FLUID_BAD[] = {
     {"eulerian: a negative limiter", "formulation = \"eulerian-wc\";",
      "formulation = \"eulerian-wc\"; riemann_limiter = -1.0;", NULL,
      "%F:4: method.riemann_limiter: must be >= 0, got -1"},
+    {"eulerian: an unknown viscous regularization", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; viscous_regularization = \"cubic\";", NULL,
+     "%F:4: method.viscous_regularization: must be one of \"squared\", \"linear\", got "
+     "\"cubic\""},
     /* time */
     {"eulerian with dual stepping", "end = 1.0;", "end = 1.0; stepping = \"dual\";", NULL,
      "%F:5: time.stepping: formulation \"eulerian-wc\" keeps its particles fixed: there is no "
@@ -1400,6 +1408,8 @@ static void test_fluids(test_counts *c) {
         CHECK(c, strcmp(sph_formulation_name(s.formulation), "eulerian-wc") == 0, "name");
         CHECK(c, s.riemann_limiter_slope == 15.0, "limiter default 15 (seed 004 eq. 22): %g",
               s.riemann_limiter_slope);
+        CHECK(c, s.viscous_regularization == SPH_VISCOUS_SQUARED,
+              "viscous regularization default r / (r^2 + eps^2)");
         CHECK(c, s.cfl_acoustic == 0.3, "cfl 0.6 / 2: %.17g", s.cfl_acoustic);
         CHECK(c, s.stepping == SPH_STEPPING_SINGLE, "single stepping");
         const sph_material *m = &s.materials[0];
@@ -1448,7 +1458,8 @@ static void test_fluids(test_counts *c) {
     {
         const char *const e[][2] = {
             {"formulation = \"eulerian-wc\";",
-             "formulation = \"eulerian-wc\"; riemann_limiter = 5.0;"},
+             "formulation = \"eulerian-wc\"; riemann_limiter = 5.0; "
+             "viscous_regularization = \"linear\";"},
             {"end = 1.0;", "end = 1.0; cfl_acoustic = 0.25; reference_speed = 1.0;"},
             {"shape = \"box\";", "shape = \"box\"; initial_density = \"1 + 0.1 * x * y\";"},
             {"lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n};", "lower = [0.0, 0.0]; upper = [1.0, "
@@ -1459,7 +1470,10 @@ static void test_fluids(test_counts *c) {
         st = sph_scene_load(&s, path, NULL, 0, &err);
         CHECK(c, st == SPH_OK, "WC scene with a density field: %s", err.msg);
         if (st == SPH_OK) {
-            CHECK(c, s.riemann_limiter_slope == 5.0 && s.cfl_acoustic == 0.25, "given values");
+            CHECK(c,
+                  s.riemann_limiter_slope == 5.0 && s.cfl_acoustic == 0.25 &&
+                      s.viscous_regularization == SPH_VISCOUS_LINEAR,
+                  "given values");
             CHECK(c, strcmp(s.bodies[0].initial_density, "1 + 0.1 * x * y") == 0, "text '%s'",
                   s.bodies[0].initial_density);
             CHECK(c, strstr(s.bodies[0].initial_density_where, ":14: bodies.f.initial_density"),
