@@ -1017,11 +1017,11 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g, *rot_at;
     sph_status st = get_group(L, root, "method", true, &g);
-    if (st || (st = check_keys(L, g,
-                               KEYS("formulation", "rotation", "torque_projection", "kernel",
-                                    "smoothing_ratio", "xi_e", "xi_g", "riemann_limiter",
-                                    "viscous_regularization", "artificial_stress",
-                                    "hourglass_alpha"))))
+    if (st ||
+        (st = check_keys(L, g,
+                         KEYS("formulation", "rotation", "torque_projection", "kernel",
+                              "smoothing_ratio", "xi_e", "xi_g", "riemann_limiter",
+                              "viscous_regularization", "artificial_stress", "hourglass_alpha"))))
         return st;
     int formulation = 0, rotation = 0, kernel = 0;
     const config_setting_t *form_at;
