@@ -76,8 +76,8 @@
     X(S, T, REALS, period, 3, "fluids: length of each periodic axis (0: not periodic)")            \
     X(S, T, REAL, far_field_density, 1, "fluids: the far field's free-stream density")             \
     X(S, T, REALS, far_field_velocity, 3, "fluids: the far field's free-stream velocity")          \
-    X(S, T, REAL, viscous_eps_linear, 1, "fluids: eps of 1/(r + eps) in eq. 13, or 0")              \
-    X(S, T, REAL, viscous_eps_squared, 1, "fluids: eps^2 of r/(r^2 + eps^2) in eq. 13, or 0")       \
+    X(S, T, REAL, viscous_eps_linear, 1, "fluids: eps of 1/(r + eps) in eq. 13, or 0")             \
+    X(S, T, REAL, viscous_eps_squared, 1, "fluids: eps^2 of r/(r^2 + eps^2) in eq. 13, or 0")      \
     X(S, T, MATERIALS, materials, SPH_MAX_MATERIALS, "the material table")                         \
     X(S, T, WALLS, walls, SPH_MAX_WALLS, "the wall table, nwalls rows used")                       \
     X(S, T, CONSTRAINTS, constraints, SPH_MAX_CONSTRAINTS, "the constraint table")                 \
