@@ -240,8 +240,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
             const fluid_state s = fluid_interface(
                 solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, n_j),
                 fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, c_i, n_j), n_j);
-            wall_flux =
-                vec_axpy(wall_flux, dwv, vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e));
+            wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
             wall_visc = vec_axpy(wall_visc, visc_w, v_i);
             continue;
         }
@@ -251,8 +250,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
             solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
             fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), SOUND_OF(j), e),
             e);
-        const vec pair = vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e);
-        flux = vec_axpy(flux, dwv, pair);
+        flux = vec_axpy(flux, dwv, fluid_momentum_flux(s, e));
         visc = vec_axpy(visc, visc_w, vec_sub(v_i, v_j));
     }
     const real w_i = vol[i];
@@ -304,8 +302,7 @@ KERNEL void eulerian_mass_energy_rate(
 #    if SPH_FLUID_KINDS
     (void)normal;
 #    endif
-    real curl[NSPIN];
-    UNROLL for (int a = 0; a < NSPIN; ++a) curl[a] = R(0);
+    vec curl = vec_zero(); /* NSPIN components used */
     /* a wall particle's rates are never used (the update leaves it alone) */
     const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
     for (int k = 0; k < count; ++k) {
@@ -319,13 +316,7 @@ KERNEL void eulerian_mass_energy_rate(
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* no mass crosses the wall (against the mirrored state the
              * linearised solver's v* is 0); the vorticity sees it at rest */
-#        if SPH_DIM == 2
-            curl[0] += -v_i.c[1] * g.c[0] + v_i.c[0] * g.c[1];
-#        else
-            curl[0] += -v_i.c[2] * g.c[1] + v_i.c[1] * g.c[2];
-            curl[1] += -v_i.c[0] * g.c[2] + v_i.c[2] * g.c[0];
-            curl[2] += -v_i.c[1] * g.c[0] + v_i.c[0] * g.c[1];
-#        endif
+            curl = curl_add(curl, g, vec_scale(v_i, R(-1)));
             continue;
         }
 #    endif
@@ -337,13 +328,7 @@ KERNEL void eulerian_mass_energy_rate(
         const real vn = vec_dot(s.v, e);
         mass_flux += s.rho * vn * dwv;
         const vec dv = vec_sub(v_j, v_i);
-#    if SPH_DIM == 2
-        curl[0] += dv.c[1] * g.c[0] - dv.c[0] * g.c[1];
-#    else
-        curl[0] += dv.c[2] * g.c[1] - dv.c[1] * g.c[2];
-        curl[1] += dv.c[0] * g.c[2] - dv.c[2] * g.c[0];
-        curl[2] += dv.c[1] * g.c[0] - dv.c[0] * g.c[1];
-#    endif
+        curl = curl_add(curl, g, dv);
 #    if SPH_HAS_COMPRESSIBLE
         energy_flux += (s.energy + s.p) * vn * dwv;
         /* the pair's viscous force on i dotted with the pair's mean velocity:
@@ -355,7 +340,7 @@ KERNEL void eulerian_mass_energy_rate(
     }
     const real w_i = vol[i];
     mass_rate[i] = R(-2) * w_i * mass_flux;
-    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl[a];
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl.c[a];
 #    if SPH_HAS_COMPRESSIBLE
     energy_rate[i] = R(-2) * w_i * energy_flux + R(2) * prm->materials[0].viscosity * w_i * heat;
 #    endif

@@ -33,6 +33,26 @@ typedef struct {
     real energy; /* total energy per unit volume (compressible) */
 } fluid_state;
 
+/* The momentum flux of an interface state along e (eq. 14's
+ * rho* v* (v* . e) + p* e). */
+FN vec fluid_momentum_flux(const fluid_state s, const vec e) {
+    return vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e);
+}
+
+/* curl += g x dv, the pair's share of curl v = sum_j g_ij x (v_j - v_i)
+ * with g_ij = grad'W_ij w_j: in 2D its z component (c[0]), in 3D all
+ * three (NSPIN components). */
+FN vec curl_add(vec curl, const vec g, const vec dv) {
+#if SPH_DIM == 2
+    curl.c[0] += g.c[0] * dv.c[1] - g.c[1] * dv.c[0];
+#else
+    curl.c[0] += g.c[1] * dv.c[2] - g.c[2] * dv.c[1];
+    curl.c[1] += g.c[2] * dv.c[0] - g.c[0] * dv.c[2];
+    curl.c[2] += g.c[0] * dv.c[1] - g.c[1] * dv.c[0];
+#endif
+    return curl;
+}
+
 /* Weakly compressible EOS (004 eq. 11): p = c0^2 (rho - rho0). */
 FN real eos_weakly_compressible(const real rho, const real rho0, const real c0) {
     return c0 * c0 * (rho - rho0);

@@ -269,6 +269,13 @@ static void format_point(const double x[3], int dim, char *buf, size_t len) {
         snprintf(buf, len, "(%g, %g, %g)", x[0], x[1], x[2]);
 }
 
+/* The position of particle i of p, as format_point writes it. */
+static void format_particle(const sph_particles *p, int dim, size_t i, char *buf, size_t len) {
+    double x[3] = {0, 0, 0};
+    for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * (size_t)p->n + i];
+    format_point(x, dim, buf, len);
+}
+
 /* "(x, y) to (x, y)": a box, for the messages that say where a region, a
  * domain or a body's particles lie */
 static void format_span(const double lo[3], const double hi[3], int dim, char *buf, size_t len) {
@@ -423,10 +430,8 @@ static sph_status check_periodic_lattice(const sph_scene *scene, const sph_parti
             const double s = (xa - lo) / dp - 0.5, off = s - round(s);
             const bool inside = xa >= lo && xa < hi;
             if (inside && fabs(off) <= 1e-6) continue;
-            double x[3] = {0, 0, 0};
-            for (int d = 0; d < dim; d++) x[d] = p->pos[(size_t)d * n + i];
             char point[96];
-            format_point(x, dim, point, sizeof point);
+            format_particle(p, dim, i, point, sizeof point);
             const sph_body *body = &scene->bodies[p->body[i]];
             if (!inside)
                 return sph_fail(err, SPH_ERR_INPUT,
@@ -466,10 +471,8 @@ static sph_status check_far_field_box(const sph_scene *scene, const sph_particle
             in = in && x >= lower[a] && x <= upper[a];
         }
         if (in) continue;
-        double x[3] = {0, 0, 0};
-        for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + i];
         char point[96], box[200];
-        format_point(x, dim, point, sizeof point);
+        format_particle(p, dim, i, point, sizeof point);
         format_span(lower, upper, dim, box, sizeof box);
         const sph_body *body = &scene->bodies[p->body[i]];
         return sph_fail(err, SPH_ERR_INPUT,
@@ -641,11 +644,10 @@ static sph_status check_monitor_domain(const sph_scene *scene, const sph_particl
         }
         if (outside > 0) {
             const sph_body *body = &scene->bodies[b];
-            double x[3] = {0, 0, 0}, blo[3], bhi[3];
-            for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + (size_t)first];
+            double blo[3], bhi[3];
             body_span(p, start, count, blo, bhi);
             char pt[96], ds[200], bs[200];
-            format_point(x, dim, pt, sizeof pt);
+            format_particle(p, dim, (size_t)first, pt, sizeof pt);
             format_span(lower, upper, dim, ds, sizeof ds);
             format_span(blo, bhi, dim, bs, sizeof bs);
             return sph_fail(err, SPH_ERR_INPUT,
@@ -879,10 +881,8 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
             for (int a = 0; a < dim; a++)
                 d += (out->pos[(size_t)a * n + i] - wall->point[a]) * wall->normal[a];
             if (d >= 0.5 * scene->dp * (1.0 - 1e-9)) continue;
-            double x[3] = {0, 0, 0};
-            for (int a = 0; a < dim; a++) x[a] = out->pos[(size_t)a * n + i];
             char point[96];
-            format_point(x, dim, point, sizeof point);
+            format_particle(out, dim, i, point, sizeof point);
             const sph_body *body = &scene->bodies[out->body[i]];
             sph_particles_free(out);
             return sph_fail(err, SPH_ERR_INPUT,

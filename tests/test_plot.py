@@ -263,6 +263,31 @@ try:
     check("|L| plotted" in ts_line["no metrics"] and "|L - L0|/|L0| =" not in
           ts_line["no metrics"], f"no metrics: |L|, not an error: {ts_line['no metrics']!r}")
 
+    # a fluid run with a wall body: the drag and lift panel with the trailing window's mean
+    # C_D from summary.json; the force columns (pressure_force_x, ...) are not observers
+    run_f = os.path.join(tmp, "run-fluid")
+    os.makedirs(run_f)
+    with open(os.path.join(run_f, "timeseries.csv"), "w") as f:
+        f.write("time,kinetic_energy,total_energy,mass,momentum_x,momentum_y,drag_coefficient,"
+                "lift_coefficient,pressure_force_x,pressure_force_y,viscous_force_x,"
+                "viscous_force_y\n")
+        for k in range(201):
+            t = 0.5 * k
+            cl = 0.34 * math.sin(2 * math.pi * 0.169 * t / 2.0)
+            f.write(",".join(repr(v) for v in (t, 50.0, 50.0, 1.0, 1.0, 0.0, 1.33, cl, 1.0, cl,
+                                               0.33, 0.0)) + "\n")
+    with open(os.path.join(run_f, "summary.json"), "w") as f:
+        json.dump({"status": "completed", "formulation": "eulerian-wc",
+                   "resolved": {"dimension": 2, "dp": 0.1},
+                   "metrics": {"mean_drag_coefficient": 1.33, "lift_amplitude": 0.34,
+                               "strouhal_number": 0.169, "force_window_start": 50.0}}, f)
+    code, out, err = run_script([run_f, "--snapshots", "0"])
+    line = png_lines(out).get(os.path.join(run_f, "plots", "timeseries.png"), "")
+    check(code == 0 and "mean C_D = 1.33 from t = 50, C_L amplitude = 0.34, St = 0.169" in line,
+          f"fluid run: the force coefficients reported: exit {code} {line!r} {err!r}")
+    check("displacement" not in line, f"fluid run: no force column taken for an observer: {line!r}")
+    check_png(os.path.join(run_f, "plots", "timeseries.png"), "fluid run")
+
     # no timeseries: exit 2 with a message; a missing directory too
     empty = os.path.join(tmp, "empty")
     os.makedirs(empty)

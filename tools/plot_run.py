@@ -13,7 +13,10 @@ Writes, under PLOTDIR (default RUN_DIR/plots):
                          is conserved and L0 != 0 (its max_angular_momentum_error is a number);
                          otherwise |L| itself, with the reason the error is not shown (a
                          constraint, a wall, gravity: "angular_momentum_not_conserved"; no spin;
-                         no summary.json), all against time; panels without data are left out.
+                         no summary.json), (d) in fluid scenes with wall bodies, the drag and
+                         lift coefficients, with the mean C_D over the trailing window of
+                         summary.json (force_window_start), all against time; panels without
+                         data are left out.
   snapshot_NNNNNN.png    particles at their deformed positions coloured by von Mises stress
                          (or by the first scalar point field present when there is none), one
                          colour scale for all the plotted snapshots; 3D runs are projected
@@ -100,12 +103,13 @@ def read_json(path):
 
 def observers_of(names):
     """Observer names and their component columns, in file order: every <name>_x/_y[/_z]
-    group that is not momentum or angular momentum."""
+    group that is not momentum, angular momentum or a fluid scene's force on its walls."""
     groups = {}
     order = []
     for n in names:
         m = re.fullmatch(r"(.+)_([xyz])", n)
-        if not m or m.group(1) in ("momentum", "angular_momentum"):
+        if not m or m.group(1) in ("momentum", "angular_momentum", "pressure_force",
+                                   "viscous_force"):
             continue
         base = m.group(1)
         if base not in groups:
@@ -268,12 +272,36 @@ def plot_timeseries(names, cols, dim, title, out_path, summary=None):
             top_legend(ax, handles)
         panels.append(("momentum", draw_momentum))
 
+    # (d) force coefficients of the wall bodies (fluid scenes with walls)
+    if "drag_coefficient" in cols and "lift_coefficient" in cols:
+        metrics = (summary or {}).get("metrics", {}) if isinstance(summary, dict) else {}
+
+        def draw_forces(ax):
+            handles = ax.plot(t, cols["drag_coefficient"], label="$C_D$")
+            handles += ax.plot(t, cols["lift_coefficient"], label="$C_L$")
+            start = metrics.get("force_window_start")
+            mean_cd = metrics.get("mean_drag_coefficient")
+            if isinstance(start, (int, float)) and isinstance(mean_cd, (int, float)):
+                ax.axvspan(start, t[-1], color="0.9", zorder=0)
+                handles += ax.plot([start, t[-1]], [mean_cd, mean_cd], "k--", lw=0.8,
+                                   label=f"mean $C_D$ = {mean_cd:.4g}")
+                bits = [f"mean C_D = {mean_cd:.4g} from t = {start:g}"]
+                for key, label in (("lift_amplitude", "C_L amplitude"),
+                                   ("strouhal_number", "St")):
+                    if isinstance(metrics.get(key), (int, float)):
+                        bits.append(f"{label} = {metrics[key]:.4g}")
+                summary_bits.append(", ".join(bits))
+            ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
+            ax.set_ylabel("force coefficient")
+            top_legend(ax, handles)
+        panels.append(("drag and lift coefficients of the wall bodies", draw_forces))
+
     if not panels:
         return None
     fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
                              figsize=(TS_SIZE_IN[0], TS_SIZE_IN[1] * (0.4 + 0.2 * len(panels))),
                              dpi=DPI)
-    letters = "abc"
+    letters = "abcd"
     for k, ((name, draw), ax) in enumerate(zip(panels, axes[:, 0])):
         draw(ax)
         ax.set_title(f"({letters[k]}) {name}", loc="left", fontsize="medium")
