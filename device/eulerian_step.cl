@@ -483,7 +483,9 @@ FN void eulerian_diagnostics_contrib(const int i, const int n, CONSTANT sph_para
     c[0] = kinetic;
     c[1] = internal;
     UNROLL for (int a = 0; a < SPH_DIM; ++a) c[2 + a] = m * v.c[a];
-#    if SPH_DIM == 2
+#    if SPH_DIM == 1
+    (void)x; /* a line has no angular momentum */
+#    elif SPH_DIM == 2
     c[2 + SPH_DIM] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
 #    else
     c[2 + SPH_DIM + 0] = m * (x.c[1] * v.c[2] - x.c[2] * v.c[1]);

@@ -48,11 +48,17 @@ FN int cell_index_of(const vec x, GLOBAL const real *grid_geom, const int gx, co
                      const int gz) {
     const real inv_cell = grid_geom[GRID_INV_CELL];
     const int cx = cell_coordinate(x.c[0], grid_geom[0], inv_cell, gx);
+#if SPH_DIM == 1
+    (void)gy;
+    (void)gz;
+    return cx;
+#else
     const int cy = cell_coordinate(x.c[1], grid_geom[1], inv_cell, gy);
+#endif
 #if SPH_DIM == 3
     const int cz = cell_coordinate(x.c[2], grid_geom[2], inv_cell, gz);
     return cx + gx * (cy + gy * cz);
-#else
+#elif SPH_DIM == 2
     (void)gz;
     return cx + gx * cy;
 #endif
@@ -325,7 +331,13 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT sph
     zs[0] = 0;
     (void)gz;
 #endif
+#if SPH_DIM == 1
+    const int ny = 1;
+    ys[0] = 0;
+    (void)cy;
+#else
     const int ny = stencil_cells(cy, gy, (wrap & 2) != 0, ys);
+#endif
 
     int count = 0, ncontact = 0;
 #if SPH_HAS_CONTACT

@@ -177,7 +177,9 @@ FN void diagnostics_contrib(const int i, const int n, CONSTANT sph_params *prm,
                                                     prm->materials[0].shear_modulus,
                                                     prm->materials[0].bulk_modulus);
     UNROLL for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    (void)x; /* a line has no angular momentum */
+#elif SPH_DIM == 2
     c[DIAG_ANGULAR] = m * (x.c[0] * v.c[1] - x.c[1] * v.c[0]);
 #else
     c[DIAG_ANGULAR + 0] = m * (x.c[1] * v.c[2] - x.c[2] * v.c[1]);

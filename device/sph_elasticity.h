@@ -92,7 +92,9 @@ FN mat spin_of(const mat grad_v) {
 FN real von_mises(const mat tau, const real p) {
     mat s = tau;
     UNROLL for (int a = 0; a < SPH_DIM; ++a) s.m[a][a] -= p;
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    return fabs(s.m[0][0]); /* uniaxial stress */
+#elif SPH_DIM == 2
     return sqrt(fmax(s.m[0][0] * s.m[0][0] + s.m[1][1] * s.m[1][1] - s.m[0][0] * s.m[1][1] +
                          R(3) * s.m[0][1] * s.m[0][1],
                      R(0)));

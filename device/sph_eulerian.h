@@ -41,9 +41,12 @@ FN vec fluid_momentum_flux(const fluid_state s, const vec e) {
 
 /* curl += g x dv, the pair's share of curl v = sum_j g_ij x (v_j - v_i)
  * with g_ij = grad'W_ij w_j: in 2D its z component (c[0]), in 3D all
- * three (NSPIN components). */
+ * three (NSPIN components), in 1D none. */
 FN vec curl_add(vec curl, const vec g, const vec dv) {
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    (void)g;
+    (void)dv;
+#elif SPH_DIM == 2
     curl.c[0] += g.c[0] * dv.c[1] - g.c[1] * dv.c[0];
 #else
     curl.c[0] += g.c[1] * dv.c[2] - g.c[2] * dv.c[1];

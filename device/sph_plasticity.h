@@ -134,8 +134,9 @@ FN mat tl_j2_kirchhoff(const mat f, tl_plastic_state *st, CONSTANT sph_params *p
     mat q;
     vec b2;
     sym_eigen(be, &q, &b2);
-    /* (3): principal log strains; the third is e_z in 2D */
-    real eps[3];
+    /* (3): principal log strains; the third is e_z in 2D (the 1D instances,
+     * fluids only, compile this unused: their lateral strains stay 0) */
+    real eps[3] = {R(0), R(0), R(0)};
     UNROLL for (int a = 0; a < SPH_DIM; ++a) eps[a] = R(0.5) * log(b2.c[a]);
 #    if SPH_DIM == 2
     eps[2] = R(0.5) * log1p(st->cpinv_zz_dev);

@@ -7,7 +7,7 @@
  * between the two languages so that the physics exists exactly once.
  *
  * Build-time symbols (set by the host, see host/features.c):
- *   SPH_DIM          2 or 3
+ *   SPH_DIM          2 or 3; 1 for the fluid formulations only
  *   SPH_DOUBLE       1 for double precision, 0 for single
  *   SPH_MIXED        1 for mixed precision (with SPH_DOUBLE 0): single
  *                    arithmetic, the history fields in double (hreal below)
@@ -250,8 +250,9 @@ typedef real hreal;
 #endif
 
 /* Components of the per-particle quantities for this dimension. */
-#define NSYM  (SPH_DIM * (SPH_DIM + 1) / 2) /* symmetric tensor */
-#define NSPIN (SPH_DIM == 2 ? 1 : 3)        /* independent spin components */
+#define NSYM (SPH_DIM * (SPH_DIM + 1) / 2) /* symmetric tensor */
+/* independent spin components: none in 1D (no rotation, no vorticity) */
+#define NSPIN (SPH_DIM == 1 ? 0 : SPH_DIM == 2 ? 1 : 3)
 
 /* Lanes of the neighbour sums: lane l sums the neighbours k = l, l + lanes,
  * ..., and the lanes are added in order at the end, a fixed order, so

@@ -15,9 +15,11 @@
 #define SPH_PI R(3.14159265358979323846)
 
 /* Wendland C2: f(q) = (1 - q/2)^4 (1 + 2q) on [0, 2];
- * alpha_2D = 7 / (4 pi h^2), alpha_3D = 21 / (16 pi h^3). */
+ * alpha_1D = 3 / (4 h), alpha_2D = 7 / (4 pi h^2), alpha_3D = 21 / (16 pi h^3). */
 FN real wendland_c2_alpha(const real h) {
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    return R(3) / (R(4) * h);
+#elif SPH_DIM == 2
     return R(7) / (R(4) * SPH_PI * h * h);
 #else
     return R(21) / (R(16) * SPH_PI * h * h * h);
@@ -39,14 +41,18 @@ FN real wendland_c2_df(const real q) {
 /* Truncated Laguerre-Gauss (004 eq. 8; the printed "s^2/2" is a typo for
  * s^2, reference notes §5 and seed digest §3.1):
  * f(q) = (1 - q^2 + q^4/6) e^(-q^2) for q <= 2, 0 beyond;
- * alpha_2D = 3 / (pi h^2), alpha_3D = 8 / (pi^(3/2) h^3).
+ * alpha_1D = 8 / (5 sqrt(pi) h), alpha_2D = 3 / (pi h^2),
+ * alpha_3D = 8 / (pi^(3/2) h^3).
  * Truncated at 2h WITHOUT renormalisation, as in 004 and SPHinXsys: the
  * alphas normalise the untruncated kernel, so int W dV over the support is
- * 1 - e^-4 = 0.98168 in 2D and erf(2) - 44 e^-4 / (3 sqrt(pi)) = 0.84376 in
+ * 0.99808 in 1D, 1 - e^-4 = 0.98168 in 2D and erf(2) - 44 e^-4 / (3 sqrt(pi)) = 0.84376 in
  * 3D, and W jumps from alpha f(2) = -alpha e^-4 / 3 to 0 at r = 2h.  (The
  * kernel correction matrix B, 003 eq. 21, absorbs the missing moment.) */
 FN real laguerre_gauss_alpha(const real h) {
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    /* sqrt(pi) = 1.772453850905516 */
+    return R(8) / (R(5) * R(1.7724538509055160273) * h);
+#elif SPH_DIM == 2
     return R(3) / (SPH_PI * h * h);
 #else
     /* pi^(3/2) = 5.568327996831708 */
@@ -75,10 +81,13 @@ FN real laguerre_gauss_df(const real q) {
  * i.e. the Wendland C4 function times the Laguerre factor 1 - s^2 + s^4/6 of
  * eq. 8 in s = 3x.  Rescaled to support 2h (x = q/2, W = sigma w / (2h)^d):
  *   f(q) = t^6 (1 + 3q + 35q^2/12) (1 - 9q^2/4 + 27q^4/32),  t = 1 - q/2,
- *   alpha_2D = 1287 / (188 pi h^2), alpha_3D = 9009 / (512 pi h^3).
+ *   alpha_2D = 1287 / (188 pi h^2), alpha_3D = 9009 / (512 pi h^3);
+ *   alpha_1D = 3861 / (2848 h) (int_0^2 f dq = 1424 / 3861, exact).
  * (Normalisation checked by quadrature in tests/test_physics_units.c.) */
 FN real laguerre_wendland_alpha(const real h) {
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    return R(3861) / (R(2848) * h);
+#elif SPH_DIM == 2
     return R(1287) / (R(188) * SPH_PI * h * h);
 #else
     return R(9009) / (R(512) * SPH_PI * h * h * h);
@@ -109,9 +118,11 @@ FN real laguerre_wendland_df(const real q) {
 
 /* Cubic B-spline (Monaghan & Lattanzio 1985; reference notes §5):
  * f = 1 - (3/2) q^2 (1 - q/2) for q < 1, (2 - q)^3 / 4 for 1 <= q < 2;
- * alpha_2D = 10 / (7 pi h^2), alpha_3D = 1 / (pi h^3). */
+ * alpha_1D = 2 / (3 h), alpha_2D = 10 / (7 pi h^2), alpha_3D = 1 / (pi h^3). */
 FN real cubic_bspline_alpha(const real h) {
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    return R(2) / (R(3) * h);
+#elif SPH_DIM == 2
     return R(10) / (R(7) * SPH_PI * h * h);
 #else
     return R(1) / (SPH_PI * h * h * h);

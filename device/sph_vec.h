@@ -144,7 +144,9 @@ FN real mat_ddot(const mat x, const mat y) {
     return s;
 }
 FN real mat_det(const mat x) {
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    return x.m[0][0];
+#elif SPH_DIM == 2
     return x.m[0][0] * x.m[1][1] - x.m[0][1] * x.m[1][0];
 #else
     return x.m[0][0] * (x.m[1][1] * x.m[2][2] - x.m[1][2] * x.m[2][1]) -
@@ -156,7 +158,9 @@ FN real mat_det(const mat x) {
 FN mat mat_inverse(const mat x) {
     mat r;
     const real inv_det = R(1) / mat_det(x);
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    r.m[0][0] = inv_det;
+#elif SPH_DIM == 2
     r.m[0][0] = x.m[1][1] * inv_det;
     r.m[0][1] = -x.m[0][1] * inv_det;
     r.m[1][0] = -x.m[1][0] * inv_det;
@@ -191,7 +195,11 @@ FN void mat_store(GLOBAL real *buf, const int n, const int i, const mat x) {
 
 FN int sym_index(const int a, const int b) {
     const int lo = a < b ? a : b, hi = a < b ? b : a;
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    (void)lo;
+    (void)hi;
+    return 0;
+#elif SPH_DIM == 2
     return lo + hi;
 #else
     return lo == 0 ? hi : (lo == 1 ? 2 + hi : 5);
@@ -250,7 +258,10 @@ FN void hsym_scale_store(GLOBAL hreal *buf, const int n, const int i, const real
  * 2D: w = Omega_yx;  3D: (Omega_zy, Omega_xz, Omega_yx) = the angular
  * velocity vector of a rigid rotation. */
 FN void spin_components(const mat omega, real w[NSPIN]) {
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    (void)omega; /* a line has no spin */
+    (void)w;
+#elif SPH_DIM == 2
     w[0] = omega.m[1][0];
 #else
     w[0] = omega.m[2][1];
@@ -260,7 +271,9 @@ FN void spin_components(const mat omega, real w[NSPIN]) {
 }
 FN mat spin_matrix(const real w[NSPIN]) {
     mat r = mat_zero();
-#if SPH_DIM == 2
+#if SPH_DIM == 1
+    (void)w;
+#elif SPH_DIM == 2
     r.m[1][0] = w[0];
     r.m[0][1] = -w[0];
 #else

@@ -88,11 +88,11 @@ void sph_diagnostics_unpack(const double *reduced, int dim, sph_diagnostics *out
     for (int a = 0; a < dim; ++a) out->momentum[a] = reduced[2 + a];
     if (dim == 2)
         out->angular[2] = reduced[2 + dim];
-    else
+    else if (dim == 3)
         for (int a = 0; a < 3; ++a) out->angular[a] = reduced[2 + dim + a];
     /* fluids (device/eulerian_step.cl): mass and total energy follow; the
      * callers' arrays hold zeros there for solids */
-    const int nspin = dim == 2 ? 1 : 3;
+    const int nspin = sph_spin_components(dim);
     out->mass = reduced[2 + dim + nspin];
     out->total_energy = reduced[3 + dim + nspin];
     /* the wall pairs' shares of the fluid's momentum rate: the walls get
@@ -130,8 +130,9 @@ void sph_neighbour_lists_free(sph_neighbour_lists *l) {
 
 int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp) {
     const double pi = 3.14159265358979323846;
-    const double lattice =
-        dim == 2 ? pi * cutoff_over_dp * cutoff_over_dp : 4.0 / 3.0 * pi * pow(cutoff_over_dp, 3.0);
+    const double lattice = dim == 1   ? 2.0 * cutoff_over_dp
+                           : dim == 2 ? pi * cutoff_over_dp * cutoff_over_dp
+                                      : 4.0 / 3.0 * pi * pow(cutoff_over_dp, 3.0);
     int cap = (int)ceil(1.5 * lattice);
     return (cap + 3) / 4 * 4;
 }

@@ -359,9 +359,15 @@ static double probe_ideal_gas_sound_speed(double p, double rho, double gamma) {
     return (double)ideal_gas_sound_speed((real)p, (real)rho, (real)gamma);
 }
 static void probe_rodrigues(const double *w_in, double dt, double *rot) {
+#if SPH_DIM == 1
+    /* a line does not turn (the 1D instances are the fluids') */
+    (void)w_in;
+    const mat r = rodrigues(mat_zero(), (real)dt);
+#else
     real w[NSPIN];
     for (int a = 0; a < NSPIN; ++a) w[a] = (real)w_in[a];
     const mat r = rodrigues(spin_matrix(w), (real)dt);
+#endif
     for (int a = 0; a < SPH_DIM; ++a)
         for (int c = 0; c < SPH_DIM; ++c) rot[a * SPH_DIM + c] = (double)r.m[a][c];
 }

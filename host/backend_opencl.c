@@ -713,7 +713,7 @@ static sph_status ocl_diagnostics(sph_backend *be, sph_diagnostics *out, sph_err
     /* fluids add mass and total energy, and with walls the wall forces
      * (reduction.cl, DIAG_NCOMP) */
     const bool fluid = FORM_IS_EULERIAN((int)be->features.formulation);
-    const int ncomp = 2 + d + (d == 2 ? 1 : 3) + (fluid ? 2 : 0) +
+    const int ncomp = 2 + d + sph_spin_components(d) + (fluid ? 2 : 0) +
                       (fluid && be->features.fluid_walls ? 2 * d : 0);
     double red[16] = {0};
     sph_status st = launch(o, &o->k.diagnostics_reduce, o->reduce_items, o->wg, NULL, 0, err);

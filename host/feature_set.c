@@ -83,9 +83,9 @@ int sph_substep_ncomp(const sph_features *f) {
 int sph_partial_ncomp(const sph_features *f) {
     /* rebuild 2d + 2, diagnostics 2 + d + (1 or 3), monitor 4 + 2d */
     int others = SPH_MONITOR_NCOMP(f->dim);
-    /* fluid diagnostics with walls: 4 + d + (1 or 3) + 2d (reduction.cl;
+    /* fluid diagnostics with walls: 4 + d + spins + 2d (reduction.cl;
      * the native fluid instances always have the wall components) */
-    const int fluid_diag = 4 + f->dim + (f->dim == 2 ? 1 : 3) + 2 * f->dim;
+    const int fluid_diag = 4 + f->dim + sph_spin_components(f->dim) + 2 * f->dim;
     if (SPH_FORMULATION_IS_EULERIAN(f->formulation) && fluid_diag > others) others = fluid_diag;
     const int substep = sph_substep_ncomp(f);
     return substep > others ? substep : others;

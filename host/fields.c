@@ -7,7 +7,7 @@
 void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
     const int d = f->dim;
     const int nsym = d * (d + 1) / 2;
-    const int nspin = d == 2 ? 1 : 3;
+    const int nspin = sph_spin_components(d);
     const bool averaged = f->rotation == SPH_ROTATION_AVERAGED;
     const int form = (int)f->formulation;
     /* fluids have neither the solid's stresses nor its acoustic terms */
@@ -51,7 +51,7 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         [FIELD_ENERGY] = {"energy", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_ENERGY_RATE] = {"energy_rate", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_SOUND_SPEED] = {"sound_speed", FIELD_TYPE_REAL, 1, compressible},
-        [FIELD_VORTICITY] = {"vorticity", FIELD_TYPE_REAL, nspin, fluid},
+        [FIELD_VORTICITY] = {"vorticity", FIELD_TYPE_REAL, nspin, fluid && nspin > 0},
         [FIELD_KIND] = {"kind", FIELD_TYPE_U8, 1, fluid && f->fluid_kinds},
         [FIELD_NORMAL] = {"normal", FIELD_TYPE_REAL, d, fluid && f->fluid_kinds},
         [FIELD_WALL_FORCE] = {"wall_force", FIELD_TYPE_REAL, 2 * d, fluid && f->fluid_walls},

@@ -99,7 +99,7 @@ static sph_status csv_columns(const sph_scene *scene, char names[][SPH_NAME_LEN 
         snprintf(names[n++], SPH_NAME_LEN + 24, "momentum_%s", axis_name(a));
     if (scene->dim == 2) {
         snprintf(names[n++], SPH_NAME_LEN + 24, "angular_momentum");
-    } else {
+    } else if (scene->dim == 3) { /* a line has no angular momentum */
         for (int a = 0; a < 3; ++a)
             snprintf(names[n++], SPH_NAME_LEN + 24, "angular_momentum_%s", axis_name(a));
     }
@@ -142,7 +142,7 @@ static sph_status csv_columns(const sph_scene *scene, char names[][SPH_NAME_LEN 
 sph_status sph_output_open(sph_output *out, const char *dir, const sph_scene *scene,
                            const sph_timeseries *resumed, sph_error *err) {
     memset(out, 0, sizeof *out);
-    if (scene->dim != 2 && scene->dim != 3)
+    if (scene->dim < 1 || scene->dim > 3)
         return sph_fail(err, SPH_ERR_INPUT, "timeseries.csv: dimension %d", scene->dim);
     char columns[MAX_COLUMNS][SPH_NAME_LEN + 24];
     int ncolumns = 0;
@@ -196,7 +196,7 @@ sph_status sph_output_row(sph_output *out, double t, const sph_diagnostics *d,
     for (int a = 0; a < out->dim; ++a) fprintf(f, ",%.12g", d->momentum[a]);
     if (out->dim == 2)
         fprintf(f, ",%.12g", d->angular[2]);
-    else
+    else if (out->dim == 3)
         fprintf(f, ",%.12g,%.12g,%.12g", d->angular[0], d->angular[1], d->angular[2]);
     if (!out->fluid) fprintf(f, ",%.6g,%.6g", d->min_distance_ratio, d->zigzag);
     if (out->forces) {

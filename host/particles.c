@@ -263,7 +263,9 @@ static long scan_body(const sph_scene *scene, int b, const double origin[3], sph
 
 /* "(x, y)" or "(x, y, z)" */
 static void format_point(const double x[3], int dim, char *buf, size_t len) {
-    if (dim == 2)
+    if (dim == 1)
+        snprintf(buf, len, "(%g)", x[0]);
+    else if (dim == 2)
         snprintf(buf, len, "(%g, %g)", x[0], x[1]);
     else
         snprintf(buf, len, "(%g, %g, %g)", x[0], x[1], x[2]);

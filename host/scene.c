@@ -523,13 +523,25 @@ static sph_status get_list(loader *L, const config_setting_t *g, const char *key
 
 static const char *const AXES[] = {"x", "y", "z"};
 
+/* The axes of a dimension, quoted, for the messages: "x", "x" or "y", ... */
+static const char *axes_text(int dim) {
+    return dim == 1 ? "\"x\"" : dim == 2 ? "\"x\" or \"y\"" : "\"x\", \"y\" or \"z\"";
+}
+
+/* The variables of the initial-field expressions, for the messages: "x",
+ * "x, y", "x, y, z" */
+static const char *variables_text(int dim) {
+    return dim == 1 ? "x" : dim == 2 ? "x, y" : "x, y, z";
+}
+
 static sph_status get_axis(loader *L, const config_setting_t *g, const char *key, bool required,
                            int def, int *out) {
     const config_setting_t *s;
     sph_status st = get_keyword(L, g, key, required, def, AXES, 3, out, &s);
     if (st) return st;
     if (*out >= L->scene->dim)
-        return fail_at(L, s, NULL, "must be \"x\" or \"y\" in 2D, got \"%s\"", AXES[*out]);
+        return fail_at(L, s, NULL, "must be %s in %dD, got \"%s\"", axes_text(L->scene->dim),
+                       L->scene->dim, AXES[*out]);
     return SPH_OK;
 }
 
@@ -1202,8 +1214,11 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
      * and the plate (h = 2 dp) blows up at 0.3-0.4 within 5 ms, runs to 1 s at
      * 0.2 (docs/method.md, kernels).  The fluids: 0.6 / d, the public
      * reference code's dt = (0.6 / d) h / max(c + |v|) (the seed gives no
-     * step size) */
-    const double cfl_acoustic = eulerian                                     ? 0.6 / sc->dim
+     * step size); in 1D 0.4, not 0.6: the Shu-Osher line (dp = 1/200)
+     * loses positive pressure at t = 0.24 with 0.6 and runs with 0.5 (L1
+     * density error 0.0298; 0.4: 0.0303, 0.3: 0.0419, docs/fluids.md) */
+    const double cfl_acoustic = eulerian && sc->dim == 1                     ? 0.4
+                                : eulerian                                   ? 0.6 / sc->dim
                                 : sc->kernel == SPH_KERNEL_LAGUERRE_WENDLAND ? 0.2
                                                                              : 0.4;
     if ((st =
@@ -1435,6 +1450,11 @@ static sph_status parse_round_shape(loader *L, const config_setting_t *s,
     static const char *const other[] = {"ball", "disc", "hollow_sphere", "annulus", ""};
     const int dim = L->scene->dim;
     const int need = kind == 3 || kind == 5 ? 2 : 3;
+    if (dim == 1)
+        return fail_at(L, type_at, NULL,
+                       "\"%s\" is a %dD shape; a line (dimension 1) is made of \"box\"es, "
+                       "lower = [x0]; upper = [x1]",
+                       names[kind - 3], need);
     if (dim != need) {
         if (kind == 7)
             return fail_at(L, type_at, NULL,
@@ -1753,11 +1773,17 @@ static sph_status parse_velocity(loader *L, const config_setting_t *g, sph_veloc
         &type, NULL);
     if (st) return st;
     v->type = (sph_velocity_type)type;
+    if (dim == 1 && v->type != SPH_VELOCITY_EXPRESSION && v->type != SPH_VELOCITY_ZERO &&
+        v->type != SPH_VELOCITY_UNIFORM)
+        return fail_at(L, config_setting_get_member(g, "type"), NULL,
+                       "a line (dimension 1) does not turn or bend: its initial velocity is "
+                       "\"zero\", \"uniform\" or an \"expression\"");
     switch (v->type) {
     case SPH_VELOCITY_EXPRESSION: {
         /* v_a = the expression of key AXES[a]; a missing key is 0 */
-        if ((st = dim == 2 ? check_keys(L, g, KEYS("type", "x", "y"))
-                           : check_keys(L, g, KEYS("type", "x", "y", "z"))))
+        if ((st = dim == 1   ? check_keys(L, g, KEYS("type", "x"))
+                  : dim == 2 ? check_keys(L, g, KEYS("type", "x", "y"))
+                             : check_keys(L, g, KEYS("type", "x", "y", "z"))))
             return st;
         for (int a = 0; a < dim; a++) {
             const config_setting_t *s = config_setting_get_member(g, AXES[a]);
@@ -1859,8 +1885,7 @@ static sph_status parse_axis_list(loader *L, const config_setting_t *c, const ch
         for (int d = 0; v && d < L->scene->dim; d++)
             if (strcmp(v, AXES[d]) == 0) a = d;
         if (a < 0)
-            return fail_at(L, e, NULL, "expected %s, got %s",
-                           L->scene->dim == 2 ? "\"x\" or \"y\"" : "\"x\", \"y\" or \"z\"",
+            return fail_at(L, e, NULL, "expected %s, got %s", axes_text(L->scene->dim),
                            v ? v : type_name(config_setting_type(e)));
         if (*mask & (1 << a)) return fail_at(L, e, NULL, "axis \"%s\" named twice", v);
         *mask |= 1 << a;
@@ -1904,6 +1929,9 @@ static sph_status parse_placement(loader *L, const config_setting_t *b, sph_body
         get_keyword(L, b, "placement", false, 0, KEYS("lattice", "relaxed"), &placement, NULL);
     if (st || (st = get_group(L, b, "relaxation", false, &g))) return st;
     body->placement = (sph_placement)placement;
+    if (placement == SPH_PLACEMENT_RELAXED && L->scene->dim == 1)
+        return fail_at(L, b, "placement",
+                       "a line (dimension 1) is its lattice: there is nothing to relax");
     sph_relaxation *r = &body->relaxation;
     memset(r, 0, sizeof *r);
     r->steps = 1000;
@@ -1960,9 +1988,9 @@ static sph_status parse_initial_scalar(loader *L, const config_setting_t *s, con
     }
     if (config_setting_type(s) != CONFIG_TYPE_STRING)
         return fail_at(L, s, NULL,
-                       "expected a number or an expression string of x, y%s and the constants, "
+                       "expected a number or an expression string of %s and the constants, "
                        "got %s",
-                       L->scene->dim == 3 ? ", z" : "", type_name(config_setting_type(s)));
+                       variables_text(L->scene->dim), type_name(config_setting_type(s)));
     return parse_expression(L, s, text, size);
 }
 
@@ -1995,8 +2023,8 @@ static sph_status parse_fluid_state(loader *L, const config_setting_t *b, sph_bo
         return fail_at(L, b, "initial_pressure",
                        "missing required key: the ideal gas of formulation "
                        "\"eulerian-compressible\" starts from a pressure (a number or an "
-                       "expression of x, y%s), from which its energy follows",
-                       L->scene->dim == 3 ? ", z" : "");
+                       "expression of %s), from which its energy follows",
+                       variables_text(L->scene->dim));
     sph_status st;
     if (rho_at && (st = parse_initial_scalar(
                        L, rho_at, "density", body->initial_density, sizeof body->initial_density,
@@ -2023,6 +2051,11 @@ static sph_status parse_role(loader *L, const config_setting_t *b, sph_body *bod
     if (st) return st;
     body->role = (sph_body_role)role;
     body->spacing_ratio = 1.0;
+    if (role == SPH_BODY_WALL && L->scene->dim == 1)
+        return fail_at(L, role_at, NULL,
+                       "a line (dimension 1) has no wall bodies (their normals and relaxation "
+                       "need a plane or space): end a line with fixed-state buffers, "
+                       "constraints of type \"fixed\"");
     if (!SPH_FORMULATION_IS_EULERIAN(f)) {
         const config_setting_t *at = role_at ? role_at : spacing_at;
         if (at)
@@ -2284,6 +2317,7 @@ static sph_status parse_output(loader *L, const config_setting_t *root) {
         for (size_t k = 0; k < sizeof fluid_defaults / sizeof fluid_defaults[0]; ++k)
             sc->output_field[fluid_defaults[k]] = true;
         sc->output_field[SPH_OUT_MACH_NUMBER] = compressible;
+        sc->output_field[SPH_OUT_VORTICITY] = sc->dim > 1; /* a line has none */
     } else {
         for (size_t k = 0; k < sizeof defaults / sizeof defaults[0]; ++k)
             sc->output_field[defaults[k]] = true;
@@ -2334,6 +2368,10 @@ static sph_status parse_output(loader *L, const config_setting_t *root) {
                                "\"eulerian-compressible\"), and this scene's formulation is "
                                "\"%s\"",
                                name, sph_formulation_name(sc->formulation));
+            if (found == SPH_OUT_VORTICITY && sc->dim == 1)
+                return fail_at(L, e, NULL,
+                               "vorticity is a field of 2D and 3D flows; a line (dimension 1) "
+                               "has none");
             if (found == SPH_OUT_MACH_NUMBER && !compressible)
                 return fail_at(L, e, NULL,
                                "mach_number is a field of formulation \"eulerian-compressible\", "
@@ -2532,6 +2570,11 @@ static sph_status parse_boundary(loader *L, const config_setting_t *root) {
     if ((st = check_keys(L, g, KEYS("periodic", "far_field", "lower", "upper"))) ||
         (st = get_group(L, g, "far_field", false, &ff)))
         return st;
+    if (ff && sc->dim == 1)
+        return fail_at(L, ff, NULL,
+                       "a line (dimension 1) has no far field here: end it with fixed-state "
+                       "buffers, constraints of type \"fixed\" (the far field's blend is "
+                       "built and tested for 2D and 3D)");
     if (ff && (st = parse_far_field(L, ff))) return st;
     /* without a far field the group is there for its periodic axes */
     if (!ff && !config_setting_get_member(g, "periodic"))
@@ -2739,12 +2782,20 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
     bool present = false;
     char text[24];
     if ((st = get_wide_int(L, root, "dimension", true, &dim, &present, &at))) return st;
-    if (!wide_in(dim, 2, 3))
-        return fail_at(L, at, NULL, "must be 2 or 3, got %s", wide_text(dim, text));
+    if (!wide_in(dim, 1, 3))
+        return fail_at(L, at, NULL, "must be 1, 2 or 3, got %s", wide_text(dim, text));
     sc->dim = (int)dim.magnitude;
+    const config_setting_t *dim_at = at;
 
-    if ((st = parse_resolution(L, root)) || (st = parse_method(L, root)) ||
-        (st = parse_time(L, root)) || (st = parse_materials(L, root)) ||
+    if ((st = parse_resolution(L, root)) || (st = parse_method(L, root))) return st;
+    /* 1D: the shock tubes of the fluid formulations (seed 004 §4.1); a solid
+     * line has no shear, so none of the solid methods means anything there */
+    if (sc->dim == 1 && !SPH_FORMULATION_IS_EULERIAN(sc->formulation))
+        return fail_at(L, dim_at, NULL,
+                       "dimension 1 is for the fluid formulations (\"eulerian-wc\", "
+                       "\"eulerian-compressible\"), got formulation \"%s\"",
+                       sph_formulation_name(sc->formulation));
+    if ((st = parse_time(L, root)) || (st = parse_materials(L, root)) ||
         (st = parse_shapes(L, root)) || (st = parse_constants(L, root)) ||
         (st = parse_bodies(L, root)) || (st = parse_observers(L, root)) ||
         (st = parse_analysis(L, root)) || (st = parse_output(L, root)) ||
@@ -3154,7 +3205,7 @@ bool sph_scene_has_driven_constraint(const sph_scene *scene) {
 
 int sph_scene_expression_variables(int dim, const char *vars[3]) {
     for (int a = 0; a < 3; a++) vars[a] = AXES[a];
-    return dim == 3 ? 3 : 2;
+    return dim;
 }
 
 sph_expression_constants

@@ -388,6 +388,13 @@ const sph_constraint *sph_constraint_at(const sph_scene *scene, int index);
 bool sph_scene_has_driven_constraint(const sph_scene *scene);
 
 const char *sph_formulation_name(sph_formulation f);
+
+/* Independent components of a spin (rotation rate, vorticity, angular
+ * momentum) in `dim` dimensions: none on a line, 1 in the plane, 3 in space
+ * (NSPIN of device/sph_prelude.h). */
+static inline int sph_spin_components(int dim) {
+    return dim == 1 ? 0 : dim == 2 ? 1 : 3;
+}
 const char *sph_rotation_name(sph_rotation r);
 const char *sph_kernel_name(sph_kernel k);
 const char *sph_stepping_name(sph_stepping s);

@@ -110,7 +110,10 @@ static sph_status trip(const sph_solver_args *a, sph_trip_kind kind, double t, c
     }
     if (where.particle >= 0) {
         const double *x = where.position;
-        if (sc->dim == 2)
+        if (sc->dim == 1)
+            sph_format(place, sizeof place, " at particle %ld of body '%s' (x = %.6g)",
+                       where.particle, sc->bodies[where.body].name, x[0]);
+        else if (sc->dim == 2)
             sph_format(place, sizeof place, " at particle %ld of body '%s' (x = %.6g, %.6g)",
                        where.particle, sc->bodies[where.body].name, x[0], x[1]);
         else

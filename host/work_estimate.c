@@ -151,7 +151,7 @@ void sph_work_estimate_compute(const sph_scene *sc, const sph_particles *p,
             SNAPSHOT_COMPRESSION * (double)p->n * particle_snapshot_bytes(sc, rq->double_precision);
     }
     const double columns =
-        1.0 + 3.0 + sc->dim + (sc->dim == 2 ? 1.0 : 3.0) + 2.0 + sc->nobservers * sc->dim;
+        1.0 + 3.0 + sc->dim + sph_spin_components(sc->dim) + 2.0 + sc->nobservers * sc->dim;
     e->bytes = e->snapshots * (e->snapshot_bytes + SERIES_BYTES_PER_ENTRY) +
                e->outputs * columns * CSV_BYTES_PER_COLUMN;
     e->free_bytes = rq->out_dir ? free_bytes(rq->out_dir, rq->start_time > 0) : NAN;

@@ -677,10 +677,10 @@ ROWS = [
             '      { type = "fixed_axes"; region = "clamp"; axes = ["y"]; } );')],
         marker='type = "fixed_axes"', args=FAST),
     Row("an integer beyond 32 bits: dimension", 2,
-        ["{file}:{line}: dimension: must be 2 or 3, got 4294967298"],
+        ["{file}:{line}: dimension: must be 1, 2 or 3, got 4294967298"],
         [ed("dimension = 2;", "dimension = 4294967298;")], marker="dimension =", args=FAST),
     Row("--set: an integer beyond 32 bits", 2,
-        ["--set dimension=4294967298: dimension: must be 2 or 3, got 4294967298"],
+        ["--set dimension=4294967298: dimension: must be 1, 2 or 3, got 4294967298"],
         argv=["run", PLATE, "--backend", "cpu", "--quiet", "--out", "{dir}/out"] + FAST +
         ["--set", "dimension=4294967298"]),
     Row("an integer beyond 32 bits: relaxation steps", 2,

@@ -25,7 +25,8 @@
  * cases/taylor_green_2d at dp = 0.05 (400 particles, periodic in x and y),
  * weakly compressible and as an ideal gas with HLLC, and the Shu-Osher tube
  * of cases/shu_osher_1d at dp = 0.01 (fixed-state buffers, periodic in y,
- * the shock and the entropy waves), 200 steps each.  Measured on pocl 3.1:
+ * the shock and the entropy waves) and as its true 1D line (line.cfg, the 1D
+ * instances, dp = 1/200), 200 steps each.  Measured on pocl 3.1:
  * velocity <= 1.8e-14 (vortices), <= 2.0e-15 (tube); density, mass and
  * energy <= 3e-15.
  */
@@ -209,5 +210,7 @@ int main(void) {
     const char *shu_osher[] = {"resolution.dp=0.01", "shapes.tube.upper=[10.0, 0.06]",
                                "boundary.upper=[10.0, 0.06]"};
     cross_check(&t, "shu_osher_1d", shu_osher, 3, SPH_PRECISION_DOUBLE, stored, 1e-10);
+    /* the same tube as a true 1D line (the 1D instances), at its dp = 1/200 */
+    cross_check(&t, "shu_osher_1d/line.cfg", NULL, 0, SPH_PRECISION_DOUBLE, stored, 1e-10);
     return test_summary("test_cross_check", &t);
 }

@@ -288,6 +288,28 @@ try:
     check("displacement" not in line, f"fluid run: no force column taken for an observer: {line!r}")
     check_png(os.path.join(run_f, "plots", "timeseries.png"), "fluid run")
 
+    # a 1D run (a line of particles): the field against x, its range reported
+    run_1 = os.path.join(tmp, "run-line")
+    os.makedirs(os.path.join(run_1, "snapshots"))
+    with open(os.path.join(run_1, "timeseries.csv"), "w") as f:
+        f.write("time,kinetic_energy,total_energy,mass,momentum_x\n0,1,2,1,0\n1,1,2,1,0\n")
+    with open(os.path.join(run_1, "summary.json"), "w") as f:
+        json.dump({"status": "completed", "formulation": "eulerian-compressible",
+                   "resolved": {"dimension": 1, "dp": 0.1}}, f)
+    x1 = (np.arange(50) + 0.5) * 0.1
+    pts1 = np.stack([x1, np.zeros(50), np.zeros(50)], axis=1)
+    write_snapshot(os.path.join(run_1, "snapshots", "snapshot_000000.hdf"), pts1,
+                   {"pressure": 1.0 + 0.5 * np.sin(x1)}, 0.0, 0, 0.1)
+    with open(os.path.join(run_1, "snapshots.hdf.series"), "w") as f:
+        json.dump({"file-series-version": "1.0",
+                   "files": [{"name": "snapshots/snapshot_000000.hdf", "time": 0.0}]}, f)
+    code, out, err = run_script([run_1])
+    line = png_lines(out).get(os.path.join(run_1, "plots", "snapshot_000000.png"), "")
+    lo, hi = float(np.min(1.0 + 0.5 * np.sin(x1))), float(np.max(1.0 + 0.5 * np.sin(x1)))
+    check(code == 0 and f"pressure [{lo:.6g}, {hi:.6g}] Pa against x" in line,
+          f"1D run: the pressure against x: exit {code} {line!r} {err!r}")
+    check_png(os.path.join(run_1, "plots", "snapshot_000000.png"), "1D run")
+
     # no timeseries: exit 2 with a message; a missing directory too
     empty = os.path.join(tmp, "empty")
     os.makedirs(empty)

@@ -347,7 +347,10 @@ static const bad_row BAD[] = {
      "%F: dimension: missing required key"},
     {"missing end", "end = 1.0; ", "", NULL, "%F:5: time.end: missing required key"},
     {"dimension 4", "dimension = 2;", "dimension = 4;", NULL,
-     "%F:2: dimension: must be 2 or 3, got 4"},
+     "%F:2: dimension: must be 1, 2 or 3, got 4"},
+    {"a solid line", "dimension = 2;", "dimension = 1;", NULL,
+     "%F:2: dimension: dimension 1 is for the fluid formulations (\"eulerian-wc\", "
+     "\"eulerian-compressible\"), got formulation \"enog-a\""},
     {"dimension as float", "dimension = 2;", "dimension = 2.0;", NULL,
      "%F:2: dimension: expected an integer, got a number"},
     /* particle placement and relaxation (bodies[i].placement, .relaxation) */
@@ -560,15 +563,15 @@ static const bad_row BAD[] = {
     /* integers beyond 32 bits are read whole, not as their low 32 bits
      * (libconfig 1.5 would read 4294967298 as 2) */
     {"dimension beyond 32 bits", "dimension = 2;", "dimension = 4294967298;", NULL,
-     "%F:2: dimension: must be 2 or 3, got 4294967298"},
+     "%F:2: dimension: must be 1, 2 or 3, got 4294967298"},
     {"dimension below -2^31", "dimension = 2;", "dimension = -4294967294;", NULL,
-     "%F:2: dimension: must be 2 or 3, got -4294967294"},
+     "%F:2: dimension: must be 1, 2 or 3, got -4294967294"},
     {"dimension in hexadecimal beyond 32 bits", "dimension = 2;", "dimension = 0x100000002;", NULL,
-     "%F:2: dimension: must be 2 or 3, got 4294967298"},
+     "%F:2: dimension: must be 1, 2 or 3, got 4294967298"},
     {"dimension with the 64-bit suffix", "dimension = 2;", "dimension = 4294967298L;", NULL,
-     "%F:2: dimension: must be 2 or 3, got 4294967298"},
+     "%F:2: dimension: must be 1, 2 or 3, got 4294967298"},
     {"--set dimension beyond 32 bits", NULL, NULL, "dimension=4294967298",
-     "--set dimension=4294967298: dimension: must be 2 or 3, got 4294967298"},
+     "--set dimension=4294967298: dimension: must be 1, 2 or 3, got 4294967298"},
     {"relaxation steps beyond 32 bits", "shape = \"block\";",
      "shape = \"block\"; placement = \"relaxed\"; relaxation = { steps = 4294967297; };", NULL,
      "%F:13: bodies.a.relaxation.steps: must be in [0, 1000000], got 4294967297"},
@@ -701,6 +704,47 @@ static const char FLUID_BASE[] =
     "  { name = \"f\"; material = \"water\"; shape = \"box\"; }\n"                          /* 13 */
     ");\n"                                                                                  /* 14 */
     "boundary = { periodic = [\"x\", \"y\"]; lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n"; /* 15 */
+
+/* A fluid on a line (dimension 1: the fluid formulations only), periodic
+ * along x; LINE_BAD edits it. */
+static const char LINE_BASE[] =
+    "# fluid line test scene\n"                                                /*  1 */
+    "dimension = 1;\n"                                                         /*  2 */
+    "resolution = { dp = 0.1; };\n"                                            /*  3 */
+    "method = { formulation = \"eulerian-wc\"; };\n"                           /*  4 */
+    "time = { end = 1.0; output_interval = 0.1; };\n"                          /*  5 */
+    "materials = { water = { density = 1.0; sound_speed = 10.0; }; };\n"       /*  6 */
+    "shapes = { box = { type = \"box\"; lower = [0.0]; upper = [1.0]; }; };\n" /*  7 */
+    "bodies = ( { name = \"f\"; material = \"water\"; shape = \"box\";\n"      /*  8 */
+    "             initial_density = \"1 + 0.01 * x\"; } );\n"                  /*  9 */
+    "boundary = { periodic = [\"x\"]; lower = [0.0]; upper = [1.0]; };\n";     /* 10 */
+
+static const bad_row LINE_BAD[] = {
+    {"line: a disc", "type = \"box\"; lower = [0.0]; upper = [1.0];",
+     "type = \"disc\"; centre = [0.5]; radius = 0.5;", NULL,
+     "%F:7: shapes.box.type: \"disc\" is a 2D shape; a line (dimension 1) is made of \"box\"es"},
+    {"line: a y axis", "periodic = [\"x\"];", "periodic = [\"y\"];", NULL,
+     "%F:10: boundary.periodic.[0]: expected \"x\", got y"},
+    {"line: a 2D vector", "upper = [1.0]; };\n", "upper = [1.0, 1.0]; };\n", NULL,
+     "%F:10: boundary.upper: expected a vector of 1 numbers, got 2 elements"},
+    {"line: vorticity", "output_interval = 0.1; };",
+     "output_interval = 0.1; };\noutput = { fields = [\"vorticity\"]; };", NULL,
+     "%F:6: output.fields.[0]: vorticity is a field of 2D and 3D flows; a line (dimension 1) has "
+     "none"},
+    {"line: relaxed", "shape = \"box\";", "shape = \"box\"; placement = \"relaxed\";", NULL,
+     "%F:8: bodies.f.placement: a line (dimension 1) is its lattice: there is nothing to relax"},
+    {"line: a wall body", "shape = \"box\";", "shape = \"box\"; role = \"wall\";", NULL,
+     "%F:8: bodies.f.role: a line (dimension 1) has no wall bodies"},
+    {"line: a far field", "periodic = [\"x\"];",
+     "far_field = { density = 1.0; velocity = [1.0]; };", NULL,
+     "%F:10: boundary.far_field: a line (dimension 1) has no far field here"},
+    {"line: a rotation", "initial_density = \"1 + 0.01 * x\";",
+     "initial_velocity = { type = \"rigid_rotation\"; omega = 1.0; };", NULL,
+     "%F:9: bodies.f.initial_velocity.type: a line (dimension 1) does not turn or bend"},
+    {"line: a y velocity", "initial_density = \"1 + 0.01 * x\";",
+     "initial_velocity = { type = \"expression\"; x = \"1\"; y = \"1\"; };", NULL,
+     "%F:9: bodies.f.initial_velocity.y: unknown key"},
+};
 
 /* the ideal gas of eulerian-compressible in FLUID_BASE: formulation, material, body */
 #define GAS_FORMULATION "formulation = \"eulerian-compressible\";"
@@ -1072,6 +1116,7 @@ static void run_bad_rows(test_counts *c, const char *base, const bad_row *rows, 
 static void test_bad_inputs(test_counts *c) {
     run_bad_rows(c, BASE, BAD, sizeof BAD / sizeof BAD[0]);
     run_bad_rows(c, FLUID_BASE, FLUID_BAD, sizeof FLUID_BAD / sizeof FLUID_BAD[0]);
+    run_bad_rows(c, LINE_BASE, LINE_BAD, sizeof LINE_BAD / sizeof LINE_BAD[0]);
     run_bad_rows(c, CYL_BASE, CYL_BAD, sizeof CYL_BAD / sizeof CYL_BAD[0]);
     char gas[4096], step[4096];
     snprintf(gas, sizeof gas, "%s", FLUID_BASE);
@@ -1397,6 +1442,30 @@ static void test_fluids(test_counts *c) {
     sph_scene s;
     sph_error err = {0};
     sph_particles p;
+
+    /* a line: the 1D defaults (CFL 0.4, no vorticity field) and its lattice,
+     * masses rho dp */
+    test_scene_write(&tmp, LINE_BASE, path, sizeof path);
+    sph_status line_st = sph_scene_load(&s, path, NULL, 0, &err);
+    CHECK(c, line_st == SPH_OK, "line scene: %s", err.msg);
+    if (line_st == SPH_OK) {
+        CHECK(c, s.dim == 1 && s.cfl_acoustic == 0.4, "dimension 1, CFL 0.4: %d %g", s.dim,
+              s.cfl_acoustic);
+        CHECK(c, !s.output_field[SPH_OUT_VORTICITY] && s.output_field[SPH_OUT_DENSITY],
+              "a line's output fields: density, no vorticity");
+        line_st = sph_particles_generate(&s, &p, &err);
+        CHECK(c, line_st == SPH_OK, "line particles: %s", err.msg);
+        if (line_st == SPH_OK) {
+            bool ok = p.n == 10;
+            for (int i = 0; ok && i < p.n; ++i) {
+                const double x = 0.05 + 0.1 * i, rho = 1 + 0.01 * x;
+                ok = fabs(p.pos[i] - x) < 1e-12 && fabs(p.mass[i] - rho * 0.1) < 1e-15;
+            }
+            CHECK(c, ok, "10 particles at 0.05 + 0.1 i with mass rho(x) dp (n = %d)", p.n);
+            sph_particles_free(&p);
+        }
+        sph_scene_free(&s);
+    }
 
     /* weakly compressible, everything defaulted */
     write_fluid(NULL, 0, path, sizeof path);

@@ -48,8 +48,14 @@ static inline const char *test_source_dir(void) {
     return dir ? dir : ".";
 }
 
+/* A case's scene: "NAME" is cases/NAME/scene.cfg, "NAME/FILE.cfg" that file
+ * of the case (e.g. "shu_osher_1d/line.cfg"). */
 static inline void test_case_path(const char *case_name, char *buf, size_t len) {
-    snprintf(buf, len, "%s/cases/%s/scene.cfg", test_source_dir(), case_name);
+    const size_t k = strlen(case_name);
+    if (k > 4 && strcmp(case_name + k - 4, ".cfg") == 0)
+        snprintf(buf, len, "%s/cases/%s", test_source_dir(), case_name);
+    else
+        snprintf(buf, len, "%s/cases/%s/scene.cfg", test_source_dir(), case_name);
 }
 
 /* A file of the repository, e.g. "cases/spinning_plate_2d/scene.cfg". */

@@ -2,7 +2,9 @@
 """bench_fluids.py — the fluid benchmarks (seed 004 §4.1-4.2, docs/fluids.md): accuracy
 against resolution and run time of the extended Eulerian SPH, on the native backend.
 
-  shu-osher  cases/shu_osher_1d/scene.cfg (formulation eulerian-compressible, HLLC with its
+  shu-osher  cases/shu_osher_1d/scene.cfg, the public code's 2D strip (layout "strip"), and
+             line.cfg, the same tube as a true 1D line (layout "line", --so-layouts)
+             (formulation eulerian-compressible, HLLC with its
              limiter) at dp = 1/200, 1/400, 1/800 (--so-n) with the truncated Laguerre-Gauss
              and the Wendland C2 kernel (--kernels), eta_HLLC = 1 (the seed's, the scene's
              default); at dp = 1/200 (--so-limiter-n) also eta = 5 (the public code's,
@@ -66,6 +68,9 @@ from bench import full_environment, loadavg  # noqa: E402
 
 SHU_OSHER = os.path.join(ROOT, "cases", "shu_osher_1d", "scene.cfg")
 SHU_OSHER_REFERENCE = os.path.join(ROOT, "cases", "shu_osher_1d", "reference_density.csv")
+# the tube as the public code's 2D strip (scene.cfg) and as a true 1D line (line.cfg)
+SO_SCENES = {"strip": SHU_OSHER,
+             "line": os.path.join(ROOT, "cases", "shu_osher_1d", "line.cfg")}
 TGV_SCENES = {"eulerian-wc": os.path.join(ROOT, "cases", "taylor_green_2d", "scene.cfg"),
               "eulerian-compressible": os.path.join(ROOT, "cases", "taylor_green_2d",
                                                     "public_code.cfg")}
@@ -104,14 +109,17 @@ def plan(args):
     runs = []
     if "shu-osher" in args.suites:
         for kernel in args.kernels:
-            for n in args.so_n:
-                runs.append({"suite": "shu-osher", "formulation": "eulerian-compressible",
-                             "kernel": kernel, "n": n, "limiter": SO_DEFAULT_LIMITER})
+            for layout in args.so_layouts:
+                for n in args.so_n:
+                    runs.append({"suite": "shu-osher", "formulation": "eulerian-compressible",
+                                 "kernel": kernel, "n": n, "limiter": SO_DEFAULT_LIMITER,
+                                 "layout": layout})
             for n in args.so_limiter_n:
                 for eta in args.so_limiters:
                     if eta != SO_DEFAULT_LIMITER:
                         runs.append({"suite": "shu-osher", "formulation": "eulerian-compressible",
-                                     "kernel": kernel, "n": n, "limiter": eta})
+                                     "kernel": kernel, "n": n, "limiter": eta,
+                                     "layout": "strip"})
     if "tgv" in args.suites:
         for form in args.tgv_formulations:
             for kernel in args.kernels:
@@ -128,13 +136,14 @@ def plan(args):
         dp = 1.0 / r["n"]
         sets = [f"resolution.dp={dp:.17g}", f"method.kernel={r['kernel']}"]
         if r["suite"] == "shu-osher":
-            r["scene"] = SHU_OSHER
+            r["scene"] = SO_SCENES[r["layout"]]
             if r["limiter"] != SO_DEFAULT_LIMITER:
                 sets.append(f"method.riemann_limiter={r['limiter']:g}")
             # the density at the end only (and the start's snapshot, which comes with it)
             sets += [f"time.end={SO_END:g}", f"output.snapshot_interval={SO_END:g}",
                      'output.fields=["density"]']
-            name = f"shu-osher-{r['kernel']}-n{r['n']}-eta{r['limiter']:g}"
+            name = f"shu-osher-{r['kernel']}-n{r['n']}-eta{r['limiter']:g}" + \
+                ("-line" if r["layout"] == "line" else "")
         else:
             r["scene"] = TGV_SCENES[r["formulation"]]
             sets += [f"time.end={TGV_END:g}", "output.snapshot_interval=0"]
@@ -147,13 +156,19 @@ def plan(args):
         particles = r["n"] ** 2 if r["suite"] == "tgv" else r["n"] ** 2 * 0.3
         factor = 2.5 if r["formulation"] == "eulerian-compressible" else 1.0
         if r["suite"] == "shu-osher":
-            factor = 6.0
+            factor = 6.0 if r["layout"] == "strip" else 0.1
         return (particles * r["n"] * factor, r["dir"])
     return sorted(unique, key=cost)
 
 
+def layout_of(r):
+    """The Shu-Osher tube's layout ("strip" or "line"); None for the TGV.  Rows written
+    before the line existed are strips."""
+    return r.get("layout", "strip") if r["suite"] == "shu-osher" else None
+
+
 def row_key(r):
-    return (r["suite"], r["formulation"], r["kernel"], r["n"], r["limiter"])
+    return (r["suite"], r["formulation"], r["kernel"], r["n"], r["limiter"], layout_of(r))
 
 
 def command(r):
@@ -291,6 +306,7 @@ def collect(r):
            "n": r["n"], "dp": 1.0 / r["n"],
            # the ladder's key: the Shu-Osher's eta; None for the TGV (each scene its own)
            "limiter": r["limiter"], "riemann_limiter": resolved.get("riemann_limiter"),
+           "layout": layout_of(r), "dimension": resolved.get("dimension"),
            "particles": s.get("particle_count"), "steps": s.get("acoustic_steps"),
            "end_time": s.get("simulated_time"), "wall_time_s": s.get("wall_time_s"),
            "status": s.get("status"), "device": s.get("device"),
@@ -344,8 +360,8 @@ def add_orders(rows):
     the dp ratio)."""
     ladders = {}
     for row in rows:
-        ladders.setdefault((row["suite"], row["formulation"], row["kernel"], row["limiter"]),
-                           []).append(row)
+        ladders.setdefault((row["suite"], row["formulation"], row["kernel"], row["limiter"],
+                            layout_of(row)), []).append(row)
     for members in ladders.values():
         members.sort(key=lambda x: x["n"])
         for a, b in zip(members, members[1:]):
@@ -375,7 +391,7 @@ def markdown(result, args, png_names):
     rows = result["rows"]
     env = result["environment"]
     so = sorted([r for r in rows if r["suite"] == "shu-osher"],
-                key=lambda r: (r["kernel"], r["limiter"], r["n"]))
+                key=lambda r: (layout_of(r) == "line", r["kernel"], r["limiter"], r["n"]))
     tgv = sorted([r for r in rows if r["suite"] == "tgv"],
                  key=lambda r: (r["formulation"] != "eulerian-wc", r["kernel"], r["n"]))
     out = ["# Fluid benchmarks (seed 004 §4.1-4.2)", "",
@@ -397,7 +413,9 @@ def markdown(result, args, png_names):
     if so:
         out += ["## Shu-Osher shock-entropy interaction (004 §4.1, Fig. 3)", "",
                 "`cases/shu_osher_1d/scene.cfg` (eulerian-compressible, HLLC with its limiter, "
-                "the B correction, fixed-state ends) to t = 1.8.  L1: the mean of "
+                "the B correction, fixed-state ends; the public code's 2D strip, periodic in y, "
+                "layout *strip*) and `line.cfg` (the same tube as a true 1D line of particles, "
+                "layout *line*, CFL 0.4 against the strip's 0.3) to t = 1.8.  L1: the mean of "
                 "|rho - rho_ref(x)| over the particles of the row nearest the strip's middle "
                 "(every row holds the same solution: the largest spread of L1 over the rows is "
                 "in the JSON, `l1_row_spread`), rho_ref the WENO5-HLLC reference at 16 000 "
@@ -407,12 +425,13 @@ def markdown(result, args, png_names):
                 "log2 of the error ratio to the next coarser dp.  The seed gives the profiles "
                 "only (Fig. 3: LG clearly better than Wendland at 1/200; \"about first order "
                 "at the extrema, second elsewhere\").", "",
-                "| kernel | eta | dp | particles | steps | L1 | order | L1 away from shock "
-                "| order | shock x | wall (s) | load | commit |",
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                "| layout | kernel | eta | dp | particles | steps | L1 | order | "
+                "L1 away from shock | order | shock x | wall (s) | load | commit |",
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in so:
             out.append(
-                f"| {KERNEL_LABELS.get(r['kernel'], r['kernel'])} | {r['limiter']:g} | "
+                f"| {layout_of(r)} | {KERNEL_LABELS.get(r['kernel'], r['kernel'])} | "
+                f"{r['limiter']:g} | "
                 f"{dp_label(r['n'])} | {fmt(r['particles'], 'd')} | {fmt(r['steps'], 'd')} | "
                 f"{fmt(r.get('l1'))} | {fmt(r.get('l1_order'), '.2f', '')} | "
                 f"{fmt(r.get('l1_away_from_shock'))} | "
@@ -421,12 +440,14 @@ def markdown(result, args, png_names):
                 f"{load_span(r)} | "
                 f"{r.get('commit') or '?'} |" + (f" {r['error']}" if r.get("error") else ""))
         out.append("")
-        by = {(r["kernel"], r["limiter"], r["n"]): r for r in so}
+        by = {(r["kernel"], r["limiter"], r["n"]): r for r in so if layout_of(r) == "strip"}
+        line_by = {(r["kernel"], r["n"]): r for r in so if layout_of(r) == "line"}
         lines = []
         for n in sorted({r["n"] for r in so}):
             lg, w = by.get(("laguerre-gauss", 1.0, n)), by.get(("wendland-c2", 1.0, n))
             if lg and w and lg.get("l1") and w.get("l1"):
-                lines.append(f"- dp = {dp_label(n)}, eta 1: L1 {lg['l1']:.4g} (Laguerre-Gauss) "
+                lines.append(f"- strip, dp = {dp_label(n)}, eta 1: L1 {lg['l1']:.4g} "
+                             f"(Laguerre-Gauss) "
                              f"against {w['l1']:.4g} (Wendland), {w['l1'] / lg['l1']:.2f}x; "
                              f"run time {lg['wall_time_s']:.1f} s against "
                              f"{w['wall_time_s']:.1f} s.")
@@ -434,7 +455,7 @@ def markdown(result, args, png_names):
             for n in sorted({r["n"] for r in so}):
                 one = by.get((kernel, 1.0, n))
                 for other in [r for r in so if r["kernel"] == kernel and r["n"] == n and
-                              r["limiter"] != 1.0]:
+                              r["limiter"] != 1.0 and layout_of(r) == "strip"]:
                     if one and one.get("l1") and other.get("l1"):
                         lines.append(
                             f"- {KERNEL_LABELS[kernel]}, dp = {dp_label(n)}: eta_HLLC 1 (seed) "
@@ -444,16 +465,27 @@ def markdown(result, args, png_names):
                             f"{other['l1_away_from_shock']:.4g}; run time "
                             f"{one['wall_time_s']:.1f} and {other['wall_time_s']:.1f} s.")
         for kernel in KERNELS:
-            ladder = [r for r in so if r["kernel"] == kernel and r["limiter"] == 1.0 and
-                      r.get("l1_order") is not None]
-            if ladder:
-                lines.append(
-                    f"- Observed orders, {KERNEL_LABELS[kernel]}, eta 1: whole tube " +
-                    ", ".join(f"{r['l1_order']:.2f}" for r in ladder) +
-                    "; away from the shock " +
-                    ", ".join(f"{r['l1_away_from_shock_order']:.2f}" for r in ladder) +
-                    " (" + ", ".join(f"{dp_label(r['coarser_n'])} to {dp_label(r['n'])}"
-                                     for r in ladder) + ").")
+            for n in sorted({r["n"] for r in so}):
+                strip, line = by.get((kernel, 1.0, n)), line_by.get((kernel, n))
+                if strip and line and strip.get("l1") and line.get("l1"):
+                    lines.append(
+                        f"- {KERNEL_LABELS[kernel]}, dp = {dp_label(n)}: strip L1 "
+                        f"{strip['l1']:.4g} in {strip['wall_time_s']:.1f} s "
+                        f"({strip['particles']} particles), line L1 {line['l1']:.4g} in "
+                        f"{line['wall_time_s']:.1f} s ({line['particles']} particles).")
+        for kernel in KERNELS:
+            for layout in ("strip", "line"):
+                ladder = [r for r in so if r["kernel"] == kernel and r["limiter"] == 1.0 and
+                          layout_of(r) == layout and r.get("l1_order") is not None]
+                if ladder:
+                    lines.append(
+                        f"- Observed orders, {layout}, {KERNEL_LABELS[kernel]}, eta 1: "
+                        "whole tube " +
+                        ", ".join(f"{r['l1_order']:.2f}" for r in ladder) +
+                        "; away from the shock " +
+                        ", ".join(f"{r['l1_away_from_shock_order']:.2f}" for r in ladder) +
+                        " (" + ", ".join(f"{dp_label(r['coarser_n'])} to {dp_label(r['n'])}"
+                                         for r in ladder) + ").")
         out += lines + [""]
     if tgv:
         out += ["## Taylor-Green vortex, Re = 100 (004 §4.2, Fig. 4)", "",
@@ -538,22 +570,25 @@ def plots(rows, png_dir, title):
         for ax in axes:
             ax.plot(xr, rr, "k-", lw=1.0, label="reference (WENO5-HLLC, 16 000 cells)")
         ns = sorted({r["n"] for r in so})
-        for r in sorted(so, key=lambda r: (r["kernel"], r["limiter"], r["n"])):
+        for r in sorted(so, key=lambda r: (layout_of(r), r["kernel"], r["limiter"], r["n"])):
             x, rho = r["_profile"]
             ls = styles[ns.index(r["n"]) % len(styles)] if r["limiter"] == 1.0 else "-."
-            lab = (f"{KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}, "
+            if layout_of(r) == "line":  # the line's profiles as markers: the strip's stay legible
+                ls = "x" if r["limiter"] == 1.0 else "+"
+            lab = (f"{layout_of(r)}, {KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}, "
                    f"eta {r['limiter']:g} (L1 {r['l1']:.4f})")
             colour = KERNEL_COLOURS.get(r["kernel"], "k")
             alpha = 1.0 if r["limiter"] == 1.0 else 0.6
             for ax in axes:
-                ax.plot(x, rho, ls, color=colour, lw=0.8, alpha=alpha, label=lab)
+                ax.plot(x, rho, ls, color=colour, lw=0.8, ms=2.5, alpha=alpha, label=lab)
         axes[1].set_xlim(4.5, 7.6)
         axes[1].set_ylim(2.9, 4.9)
         for ax in axes:
             ax.set_xlabel("x")
             ax.set_ylabel("density")
             ax.grid(True, alpha=0.3)
-        axes[0].set_title("Shu-Osher at t = 1.8 (004 §4.1, eq. 27), the row nearest y = 0.015")
+        axes[0].set_title("Shu-Osher at t = 1.8 (004 §4.1, eq. 27): the strip's row nearest "
+                          "y = 0.015, and the line")
         axes[1].set_title("zoom: the entropy waves behind the shock")
         axes[0].legend(fontsize=7, ncol=2)
         fig.suptitle("\n".join(textwrap.wrap(title, 150)), fontsize=8)
@@ -592,12 +627,13 @@ def plots(rows, png_dir, title):
         out = {}
         for r in rows:
             if r["suite"] == suite and r.get(key):
-                label = (f"{KERNEL_LABELS.get(r['kernel'])}, eta {r['limiter']:g}"
+                label = (f"{layout_of(r)}, {KERNEL_LABELS.get(r['kernel'])}, "
+                         f"eta {r['limiter']:g}"
                          if suite == "shu-osher" else
                          f"{r['formulation'].replace('eulerian-', '')}, "
                          f"{KERNEL_LABELS.get(r['kernel'])}")
-                out.setdefault((label, r["kernel"], r["formulation"], r["limiter"]),
-                               []).append(r)
+                out.setdefault((label, r["kernel"], r["formulation"], r["limiter"],
+                                layout_of(r)), []).append(r)
         return out
     panels = [("shu-osher", "l1", "Shu-Osher: L1 density error, t = 1.8"),
               ("shu-osher", "l1_away_from_shock",
@@ -610,12 +646,15 @@ def plots(rows, png_dir, title):
                                  ("wall_time_s", "error-vs-runtime-fluids.png", "runtime")):
         fig, axes = plt.subplots(1, len(panels), figsize=(5.8 * len(panels), 5.2), squeeze=False)
         for ax, (suite, key, heading) in zip(axes[0], panels):
-            for (label, kernel, form, eta), pts in sorted(series(suite, key).items()):
+            for (label, kernel, form, eta, layout), pts in sorted(series(suite, key).items(),
+                                                                   key=lambda kv: kv[0][0]):
                 pts.sort(key=lambda r: r[xkey])
                 dashed = (suite == "tgv" and form == "eulerian-compressible") or \
                     (suite == "shu-osher" and eta != 1.0)
+                dotted = layout == "line"
                 ax.loglog([r[xkey] for r in pts], [r[key] for r in pts],
-                          "--" if dashed else "-", marker="s" if dashed else "o",
+                          ":" if dotted else "--" if dashed else "-",
+                          marker="^" if dotted else "s" if dashed else "o",
                           color=KERNEL_COLOURS.get(kernel, "k"), label=label)
                 for r in pts:
                     ax.annotate(dp_label(r["n"]), (r[xkey], r[key]), fontsize=7,
@@ -659,6 +698,8 @@ def main():
     ap.add_argument("--kernels", nargs="+", default=KERNELS, choices=KERNELS)
     ap.add_argument("--so-n", type=int, nargs="+", default=None, metavar="N",
                     help="Shu-Osher dp = 1/N ladder (default 200 400 800)")
+    ap.add_argument("--so-layouts", nargs="+", default=list(SO_SCENES), choices=list(SO_SCENES),
+                    help="the tube as the 2D strip (scene.cfg) and/or the 1D line (line.cfg)")
     ap.add_argument("--so-limiters", type=float, nargs="+", default=[1.0, 5.0], metavar="ETA",
                     help="eta_HLLC compared at --so-limiter-n (default 1 5)")
     ap.add_argument("--so-limiter-n", type=int, nargs="*", default=[200], metavar="N",
@@ -688,7 +729,8 @@ def main():
         args.tgv_n = [25, 50] if args.quick else [25, 50, 100]
     if args.jobs < 1:
         sys.exit("bench_fluids.py: --jobs must be >= 1")
-    for path in [SHU_OSHER, SHU_OSHER_REFERENCE] * ("shu-osher" in args.suites) + \
+    for path in ([SO_SCENES[k] for k in args.so_layouts] + [SHU_OSHER_REFERENCE]) * \
+            ("shu-osher" in args.suites) + \
             [TGV_SCENES[f] for f in args.tgv_formulations] * ("tgv" in args.suites):
         if not os.path.exists(path):
             sys.exit(f"bench_fluids.py: {os.path.relpath(path, ROOT)} is missing")
@@ -717,16 +759,15 @@ def main():
         with open(args.json) as f:
             previous = json.load(f).get("rows", [])
         now = {row_key(r) for r in rows}
-        previous = [r for r in previous if (r["suite"], r["formulation"], r["kernel"], r["n"],
-                                            r["limiter"]) not in now]
+        previous = [r for r in previous if row_key(r) not in now]
     allrows = previous + rows
     for r in allrows:  # orders are recomputed over the merged set
         for k in list(r):
             if k.endswith("_ratio") or k.endswith("_order") or k == "coarser_n":
                 del r[k]
     add_orders(allrows)
-    allrows.sort(key=lambda r: (r["suite"], r["formulation"], r["kernel"], r["limiter"] or 0,
-                                r["n"]))
+    allrows.sort(key=lambda r: (r["suite"], layout_of(r) or "", r["formulation"], r["kernel"],
+                                r["limiter"] or 0, r["n"]))
     result = {"benchmark": "bench_fluids", "label": args.label, "command": invocation.strip(),
               "environment": env, "requested_runs": len(runs), "runs": len(rows),
               "rows": [{k: v for k, v in r.items() if not k.startswith("_")} for r in allrows]}
@@ -765,7 +806,7 @@ def main():
         extra = (f", away from shock {r['l1_away_from_shock']:.4g}"
                  if r.get("l1_away_from_shock") else "")
         order = r.get("l1_order", r.get("ke_error_order"))
-        print(f"{r['suite']:9s} {r['formulation']:21s} {r['kernel']:14s} "
+        print(f"{r['suite']:9s} {layout_of(r) or '':5s} {r['formulation']:21s} {r['kernel']:14s} "
               f"eta {fmt(r['limiter'], 'g', '-'):3s} dp {dp_label(r['n']):6s} "
               f"error {fmt(err)}{extra}" + (f" order {order:.2f}" if order else "") +
               f"  wall {fmt(r['wall_time_s'], '.1f')} s" +

@@ -20,7 +20,8 @@ Writes, under PLOTDIR (default RUN_DIR/plots):
   snapshot_NNNNNN.png    particles at their deformed positions coloured by von Mises stress
                          (or by the first scalar point field present when there is none), one
                          colour scale for all the plotted snapshots; 3D runs are projected
-                         onto the plane of their two largest extents.
+                         onto the plane of their two largest extents; 1D runs (a line of
+                         particles) plot the field against x.
 
 Snapshots: K of them (default 4: the first, the last and evenly spaced between; 0: none),
 or those nearest the times given with --times.  Only the selected snapshot files are read.
@@ -422,6 +423,38 @@ def estimate_dp(pts):
     return float(np.sqrt(np.median(best))) if len(best) else None
 
 
+def plot_line_snapshots(data, title, out_dir):
+    """1D runs (a line of particles): the field against x, one scale for every snapshot."""
+    finite = np.concatenate([d[5][np.isfinite(d[5])] for d in data])
+    vmin = float(finite.min()) if len(finite) else 0.0
+    vmax = float(finite.max()) if len(finite) else 1.0
+    pad = 0.05 * (vmax - vmin) if vmax > vmin else 0.5
+    fig_h = 4.5
+    fig, ax = plt.subplots(figsize=(SNAP_WIDTH_IN, fig_h), dpi=DPI)
+    written = []
+    for time, index, path, pts, field, values, meta in data:
+        ax.clear()
+        order = np.argsort(pts[:, 0], kind="stable")
+        ax.plot(pts[order, 0], values[order], ".-", ms=2.0, lw=0.6)
+        name, unit = FIELD_LABELS.get(field, (field or "no field", ""))
+        ax.set_ylabel(f"{name} [{unit}]" if unit else name)
+        ax.set_xlabel("x [m]")
+        ax.set_ylim(vmin - pad, vmax + pad)
+        ax.grid(True, lw=0.3, alpha=0.4)
+        ax.set_title(f"{title}\nt = {time:.6g} s   (snapshot {index}, {len(pts)} particles)",
+                     fontsize="medium")
+        fig.tight_layout()
+        out = os.path.join(out_dir, f"snapshot_{index:06d}.png")
+        fig.savefig(out, dpi=DPI)
+        fin = values[np.isfinite(values)]
+        vrange = f"[{fin.min():.6g}, {fin.max():.6g}]" if len(fin) else "[]"
+        written.append((out, f"t = {time:.6g} s, {field or 'no field'} {vrange}"
+                             f"{' ' + unit if unit else ''} against x, "
+                             f"{int(SNAP_WIDTH_IN * DPI)}x{int(round(fig_h * DPI))} px"))
+    plt.close(fig)
+    return written
+
+
 def plot_snapshots(selected, dim, dp, title, out_dir):
     data = []
     for time, index, path in selected:
@@ -438,6 +471,9 @@ def plot_snapshots(selected, dim, dp, title, out_dir):
         data.append((time, index, path, pts, field, values, meta))
     if not data:
         return []
+
+    if dim == 1:
+        return plot_line_snapshots(data, title, out_dir)
 
     # projection plane: 2D runs (z = 0) use x-y; 3D runs the two largest extents
     all_pts = np.concatenate([d[3] for d in data])

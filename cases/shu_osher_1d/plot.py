@@ -4,7 +4,8 @@
     /usr/bin/python3 cases/shu_osher_1d/plot.py RUN_DIR [RUN_DIR ...] [--out FILE.png]
                                                 [--row Y]
 
-Each RUN_DIR is a run of scene.cfg (any kernel, any dp) to t = 1.8; its last snapshot is read.
+Each RUN_DIR is a run of scene.cfg or line.cfg (any kernel, any dp) to t = 1.8; its last snapshot
+is read.
 One row of the strip is plotted (the particles whose y is nearest Y, default 0.0125: every
 row is a copy of the 1D solution), with reference_density.csv (WENO5, 16000 cells;
 REFERENCE.md) as a line, over the whole tube and in a zoom on the entropy waves behind the
@@ -46,7 +47,8 @@ def last_snapshot(run):
     try:
         with open(os.path.join(run, "summary.json")) as f:
             s = json.load(f)
-        label = "%s, dp = 1/%d" % (s["kernel"], round(1.0 / s["resolved"]["dp"]))
+        label = "%s, dp = 1/%d%s" % (s["kernel"], round(1.0 / s["resolved"]["dp"]),
+                                     ", 1D line" if s["resolved"].get("dimension") == 1 else "")
     except (OSError, ValueError, KeyError, TypeError, ZeroDivisionError):
         pass
     return float(last["time"]), pos, rho, label

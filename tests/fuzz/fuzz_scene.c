@@ -52,7 +52,9 @@ static void check_failure(fuzz_scene_result *res, const char *stage, sph_status 
 }
 
 static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
-    if (sc->dim != 2 && sc->dim != 3) violate(res, "dim %d", sc->dim);
+    if (sc->dim < 1 || sc->dim > 3 ||
+        (sc->dim == 1 && !SPH_FORMULATION_IS_EULERIAN(sc->formulation)))
+        violate(res, "dim %d with formulation %d", sc->dim, (int)sc->formulation);
     if (!finite_positive(sc->dp)) violate(res, "dp %g", sc->dp);
     if (!finite_positive(sc->end_time) || !finite_positive(sc->output_interval))
         violate(res, "end %g, output_interval %g", sc->end_time, sc->output_interval);
