@@ -194,6 +194,7 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap, CONSTA
     }
 }
 
+#    if SPH_FLUID_TWO_STAGE
 /* Stage 1: the momentum rate F_i = d(m v)_i/dt (the Riemann momentum flux
  * and the viscous force, from the state n), stored as the second stage's
  * velocity v'_i = (m v)^{n+1} / m^n = v_i + dt F_i / m_i (the public code's
@@ -229,7 +230,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
         const real dwv = pair_dwv[slot];
         const real visc_w = dwv * pair_inv_r[slot]; /* dW w_j r / (r^2 + eps^2) */
-#    if SPH_FLUID_KINDS
+#        if SPH_FLUID_KINDS
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* the wall (at rest): the Riemann problem along the wall
              * particle's normal n_j against the mirrored state (rho_i, p_i,
@@ -244,7 +245,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
             wall_visc = vec_axpy(wall_visc, visc_w, v_i);
             continue;
         }
-#    endif
+#        endif
         const vec v_j = vec_load(vel, n, j);
         const fluid_state s = fluid_interface(
             solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
@@ -255,7 +256,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
     }
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
-#    if SPH_FLUID_WALLS
+#        if SPH_FLUID_WALLS
     /* the wall pairs' share of F_i: pressure part, viscous part */
     const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
     const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
@@ -266,10 +267,10 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         }
     }
     force = vec_add(force, vec_add(wall_p, wall_v));
-#    else
+#        else
     (void)wall_flux;
     (void)wall_visc;
-#    endif
+#        endif
     vec_store(vel_stage, n, i, vec_axpy(v_i, dt / mass[i], force));
 }
 
@@ -294,14 +295,14 @@ KERNEL void eulerian_mass_energy_rate(
     const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
     const real c_i = SOUND_OF(i);
     real mass_flux = R(0);
-#    if SPH_HAS_COMPRESSIBLE
+#        if SPH_HAS_COMPRESSIBLE
     real energy_flux = R(0), heat = R(0);
-#    else
+#        else
     (void)pair_inv_r;
-#    endif
-#    if SPH_FLUID_KINDS
+#        endif
+#        if SPH_FLUID_KINDS
     (void)normal;
-#    endif
+#        endif
     vec curl = vec_zero(); /* NSPIN components used */
     /* a wall particle's rates are never used (the update leaves it alone) */
     const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
@@ -312,14 +313,14 @@ KERNEL void eulerian_mass_energy_rate(
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
         const real dwv = pair_dwv[slot];
         const vec g = vec_scale(e, dwv);
-#    if SPH_FLUID_KINDS
+#        if SPH_FLUID_KINDS
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* no mass crosses the wall (against the mirrored state the
              * linearised solver's v* is 0); the vorticity sees it at rest */
             curl = curl_add(curl, g, vec_scale(v_i, R(-1)));
             continue;
         }
-#    endif
+#        endif
         const vec v_j = vec_load(vel_stage, n, j);
         const fluid_state s = fluid_interface(
             solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
@@ -329,21 +330,21 @@ KERNEL void eulerian_mass_energy_rate(
         mass_flux += s.rho * vn * dwv;
         const vec dv = vec_sub(v_j, v_i);
         curl = curl_add(curl, g, dv);
-#    if SPH_HAS_COMPRESSIBLE
+#        if SPH_HAS_COMPRESSIBLE
         energy_flux += (s.energy + s.p) * vn * dwv;
         /* the pair's viscous force on i dotted with the pair's mean velocity:
          * antisymmetric viscous force, symmetric mean, so the viscous work
          * cancels in the sum over all particles */
         const vec f_pair = vec_scale(dv, -dwv * pair_inv_r[slot]);
         heat += vec_dot(f_pair, vec_scale(vec_add(v_i, v_j), R(0.5)));
-#    endif
+#        endif
     }
     const real w_i = vol[i];
     mass_rate[i] = R(-2) * w_i * mass_flux;
     UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl.c[a];
-#    if SPH_HAS_COMPRESSIBLE
+#        if SPH_HAS_COMPRESSIBLE
     energy_rate[i] = R(-2) * w_i * energy_flux + R(2) * prm->materials[0].viscosity * w_i * heat;
-#    endif
+#        endif
 }
 
 /* Stage 3, per particle: the conserved variables and the pressure.  The
@@ -362,9 +363,9 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n || IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL) return;
-#    if SPH_FLUID_KINDS
+#        if SPH_FLUID_KINDS
     (void)normal;
-#    endif
+#        endif
     const real m_old = mass[i];
     const real m = m_old + dt * mass_rate[i];
     const vec v = vec_scale(vec_load(vel_stage, n, i), m_old / m);
@@ -372,17 +373,176 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
     mass[i] = m;
     const real r = m / vol[i];
     rho[i] = (hreal)r;
-#    if SPH_HAS_COMPRESSIBLE
+#        if SPH_HAS_COMPRESSIBLE
     const real e = energy[i] + dt * energy_rate[i];
     energy[i] = e;
     const real gamma = prm->materials[0].gamma;
     const real p = eos_ideal_gas(e / vol[i], r, v, gamma);
     pressure[i] = p;
     sound_speed[i] = ideal_gas_sound_speed(p, r, gamma);
-#    else
+#        else
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
-#    endif
+#        endif
 }
+
+#    endif /* SPH_FLUID_TWO_STAGE */
+
+#    if SPH_FLUID_RK2
+/* SSP-RK2 (Shu & Osher 1988; time.integrator = "ssp-rk2"), the option to
+ * the public code's two stages.  With L(U) the rates of eq. 14 (mass,
+ * momentum, energy) from one state U = (m, m v, E w):
+ *   U1 = U^n + dt L(U^n),   U^{n+1} = (U^n + U1 + dt L(U1)) / 2.
+ * eulerian_rates evaluates L from one state in one pair loop, one Riemann
+ * problem per pair where the two stages solve two (so a step costs about
+ * what a two-stage step does), and eulerian_rk_update takes the stage.
+ * Stage 0 evaluates L(U^n), stage 1 L(U1); the wall force is the mean of
+ * the two stages' (the force the step applies), the vorticity that of U1.
+ * Fixed-state and wall particles keep their state. */
+KERNEL void eulerian_rates(
+    ITEM_PARAM const int n, const int cap, const int stage, CONSTANT sph_params *prm,
+    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+    GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
+    GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
+    GLOBAL real *restrict momentum_rate,
+    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS WALL_FORCE_PARAM) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    const int stride = n * cap;
+    const real mu = prm->materials[0].viscosity;
+    const fluid_solver solver = fluid_solver_make(prm);
+    const vec v_i = vec_load(vel, n, i);
+    const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
+    const real c_i = SOUND_OF(i);
+    vec flux = vec_zero(), visc = vec_zero(), curl = vec_zero();
+    vec wall_flux = vec_zero(), wall_visc = vec_zero();
+    real mass_flux = R(0);
+#        if SPH_HAS_COMPRESSIBLE
+    real energy_flux = R(0), heat = R(0);
+#        endif
+    /* a wall particle's rates are never used */
+    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        vec e;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
+        const real dwv = pair_dwv[slot];
+        const real visc_w = dwv * pair_inv_r[slot];
+        const vec g = vec_scale(e, dwv);
+#        if SPH_FLUID_KINDS
+        if (KIND_OF(j) == SPH_PARTICLE_WALL) {
+            /* as eulerian_momentum_rate's wall pairs; no mass or energy
+             * crosses the wall */
+            const vec n_j = vec_load(normal, n, j);
+            const fluid_state s = fluid_interface(
+                solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, n_j),
+                fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, c_i, n_j), n_j);
+            wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
+            wall_visc = vec_axpy(wall_visc, visc_w, v_i);
+            curl = curl_add(curl, g, vec_scale(v_i, R(-1)));
+            continue;
+        }
+#        endif
+        const vec v_j = vec_load(vel, n, j);
+        const fluid_state s = fluid_interface(
+            solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
+            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), SOUND_OF(j), e),
+            e);
+        const vec dv = vec_sub(v_j, v_i);
+        const real vn = vec_dot(s.v, e);
+        flux = vec_axpy(flux, dwv, fluid_momentum_flux(s, e));
+        visc = vec_axpy(visc, -visc_w, dv);
+        mass_flux += s.rho * vn * dwv;
+        curl = curl_add(curl, g, dv);
+#        if SPH_HAS_COMPRESSIBLE
+        energy_flux += (s.energy + s.p) * vn * dwv;
+        /* the viscous work, pairwise (eulerian_mass_energy_rate) */
+        heat += vec_dot(vec_scale(dv, -visc_w), vec_scale(vec_add(v_i, v_j), R(0.5)));
+#        endif
+    }
+    const real w_i = vol[i];
+    vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
+#        if SPH_FLUID_WALLS
+    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
+    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
+    if (PRESENT(wall_force)) {
+        const real keep = stage == 0 ? R(0) : R(0.5), add = stage == 0 ? R(1) : R(0.5);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
+            wall_force[(SPH_DIM + a) * n + i] =
+                keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
+        }
+    }
+    force = vec_add(force, vec_add(wall_p, wall_v));
+#        else
+    (void)wall_flux;
+    (void)wall_visc;
+    (void)stage;
+#        endif
+    vec_store(momentum_rate, n, i, force);
+    mass_rate[i] = R(-2) * w_i * mass_flux;
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl.c[a];
+#        if SPH_HAS_COMPRESSIBLE
+    energy_rate[i] = R(-2) * w_i * energy_flux + R(2) * mu * w_i * heat;
+#        endif
+}
+
+/* The stage's update of the conserved variables (see eulerian_rates), then
+ * rho = m / w, v = (m v) / m, p by the EOS and the ideal gas's sound speed;
+ * state_saved holds U^n between the stages (m, m v, E w). */
+KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, STEP_DT_PARAM,
+                               CONSTANT sph_params *prm, GLOBAL real *restrict vel,
+                               GLOBAL real *restrict mass, GLOBAL hreal *restrict rho,
+                               GLOBAL const real *restrict vol, GLOBAL real *restrict pressure,
+                               GLOBAL const real *restrict mass_rate,
+                               GLOBAL const real *restrict momentum_rate,
+                               GLOBAL real *restrict state_saved ENERGY_UPDATE_PARAMS
+                                   SOUND_OUT_PARAM FIXED_PARAM KIND_PARAMS) {
+    STEP_DT_BEGIN;
+    const int i = ITEM_ID;
+    if (i >= n || IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL) return;
+#        if SPH_FLUID_KINDS
+    (void)normal;
+#        endif
+    const real m_old = mass[i];
+    const vec mv_old = vec_scale(vec_load(vel, n, i), m_old);
+    real m = m_old + dt * mass_rate[i];
+    vec mv = vec_axpy(mv_old, dt, vec_load(momentum_rate, n, i));
+#        if SPH_HAS_COMPRESSIBLE
+    real e = energy[i] + dt * energy_rate[i];
+#        endif
+    if (stage == 0) {
+        state_saved[i] = m_old;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) state_saved[(1 + a) * n + i] = mv_old.c[a];
+#        if SPH_HAS_COMPRESSIBLE
+        state_saved[(1 + SPH_DIM) * n + i] = energy[i];
+#        endif
+    } else {
+        m = R(0.5) * (state_saved[i] + m);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) mv.c[a] =
+            R(0.5) * (state_saved[(1 + a) * n + i] + mv.c[a]);
+#        if SPH_HAS_COMPRESSIBLE
+        e = R(0.5) * (state_saved[(1 + SPH_DIM) * n + i] + e);
+#        endif
+    }
+    const vec v = vec_scale(mv, R(1) / m);
+    vec_store(vel, n, i, v);
+    mass[i] = m;
+    const real r = m / vol[i];
+    rho[i] = (hreal)r;
+#        if SPH_HAS_COMPRESSIBLE
+    energy[i] = e;
+    const real gamma = prm->materials[0].gamma;
+    const real p = eos_ideal_gas(e / vol[i], r, v, gamma);
+    pressure[i] = p;
+    sound_speed[i] = ideal_gas_sound_speed(p, r, gamma);
+#        else
+    pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
+#        endif
+}
+#    endif
 
 #    if SPH_FAR_FIELD
 /* The far field (the public code's NonReflectiveBoundaryCorrection,

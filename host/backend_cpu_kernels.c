@@ -177,8 +177,9 @@ static void fluid_setup_impl(cpu_buffers *b) {
 }
 
 /* One step of a fluid run (eulerian_step.cl) in one parallel region: the
- * momentum rate, the mass and energy rates, the update, the far field, then
- * the step clock's signal speed over fixed blocks of SPH_WG particles. */
+ * momentum rate, the mass and energy rates, the update (or SSP-RK2's two
+ * rate passes and stage updates), the far field, then the step clock's
+ * signal speed over fixed blocks of SPH_WG particles. */
 static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     const real dt = (real)dt_in;
     const int n = b->n, cap = b->cap;
@@ -188,30 +189,57 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
     const int ngroups = (n + SPH_WG - 1) / SPH_WG;
 #    pragma omp parallel if (b->parallel)
     {
+        if (b->field[FIELD_MOMENTUM_RATE]) {
+            /* SSP-RK2 (time.integrator): the rates of U^n, stage 0, the
+             * rates of U1, stage 1 */
+            for (int stage = 0; stage < 2; ++stage) {
 #    pragma omp for schedule(static)
-        for (int i = 0; i < n; ++i)
-            eulerian_momentum_rate(
-                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
-                F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                F_REAL(b, FIELD_PRESSURE),
-                F_REAL(b, FIELD_VEL_STAGE) ENERGY_FIELD_ARG SOUND_FIELD_ARG,
-                F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE));
+                for (int i = 0; i < n; ++i)
+                    eulerian_rates(i, n, cap, stage, prm, b->nbr_count, b->nbr_j,
+                                   (const real *)b->pair_e, (const real *)b->pair_dwv,
+                                   (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
+                                   F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL),
+                                   F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_MASS_RATE),
+                                   F_REAL(b, FIELD_MOMENTUM_RATE),
+                                   F_REAL(b, FIELD_VORTICITY)
+                                       ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS,
+                                   F_REAL(b, FIELD_WALL_FORCE));
 #    pragma omp for schedule(static)
-        for (int i = 0; i < n; ++i)
-            eulerian_mass_energy_rate(
-                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
-                F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                F_REAL(b, FIELD_MASS_RATE),
-                F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS);
+                for (int i = 0; i < n; ++i)
+                    eulerian_rk_update(
+                        i, n, stage, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                        F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
+                        F_REAL(b, FIELD_MASS_RATE), F_REAL(b, FIELD_MOMENTUM_RATE),
+                        F_REAL(b, FIELD_STATE_SAVED) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
+                        F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+            }
+        } else {
 #    pragma omp for schedule(static)
-        for (int i = 0; i < n; ++i)
-            eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VEL_STAGE),
-                            F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
-                            F_REAL(b, FIELD_PRESSURE),
-                            F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
-                            F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+            for (int i = 0; i < n; ++i)
+                eulerian_momentum_rate(
+                    i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
+                    F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                    F_REAL(b, FIELD_PRESSURE),
+                    F_REAL(b, FIELD_VEL_STAGE) ENERGY_FIELD_ARG SOUND_FIELD_ARG,
+                    F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE));
+#    pragma omp for schedule(static)
+            for (int i = 0; i < n; ++i)
+                eulerian_mass_energy_rate(
+                    i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
+                    F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
+                    F_REAL(b, FIELD_MASS_RATE),
+                    F_REAL(b, FIELD_VORTICITY)
+                        ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS);
+#    pragma omp for schedule(static)
+            for (int i = 0; i < n; ++i)
+                eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VEL_STAGE),
+                                F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
+                                F_REAL(b, FIELD_PRESSURE),
+                                F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
+                                F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+        }
         far_field_pass(b);
 #    pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g)

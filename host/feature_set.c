@@ -32,6 +32,7 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
             if (scene->bodies[b].role == SPH_BODY_WALL) out->fluid_walls = true;
         out->far_field = scene->has_far_field;
         out->fluid_kinds = particles->kind != NULL;
+        out->fluid_rk2 = scene->fluid_integrator == SPH_FLUID_SSP_RK2;
     }
 }
 
@@ -60,7 +61,7 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
              "-DSPH_TORQUE_PROJECTION=%d -DSPH_WG=%d "
-             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s",
+             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s%s",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
              f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
@@ -70,8 +71,8 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              f->double_precision ? sizeof(sph_params_f64) : sizeof(sph_params_f32),
              /* fluids: walls and far field (device/sph_prelude.h) */
              f->fluid_kinds ? " -DSPH_FLUID_KINDS=1" : "",
-             f->fluid_walls ? " -DSPH_FLUID_WALLS=1" : "",
-             f->far_field ? " -DSPH_FAR_FIELD=1" : "");
+             f->fluid_walls ? " -DSPH_FLUID_WALLS=1" : "", f->far_field ? " -DSPH_FAR_FIELD=1" : "",
+             f->fluid_rk2 ? " -DSPH_FLUID_RK2=1" : "");
 }
 
 int sph_substep_ncomp(const sph_features *f) {

@@ -1165,10 +1165,10 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g;
     sph_status st = get_group(L, root, "time", true, &g);
-    if (st ||
-        (st = check_keys(L, g,
-                         KEYS("end", "output_interval", "stepping", "cfl_advection", "cfl_acoustic",
-                              "reference_speed", "acceleration_criterion", "frozen_geometry"))))
+    if (st || (st = check_keys(L, g,
+                               KEYS("end", "output_interval", "stepping", "cfl_advection",
+                                    "cfl_acoustic", "reference_speed", "acceleration_criterion",
+                                    "frozen_geometry", "integrator"))))
         return st;
     if ((st = get_float(L, g, "end", true, 0, 0, true, INFINITY, false, &sc->end_time)) ||
         (st = get_float(L, g, "output_interval", true, 0, 0, true, INFINITY, false,
@@ -1208,6 +1208,18 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
                        "(its default), got \"dual\"",
                        sph_formulation_name(sc->formulation));
     sc->stepping = (sph_stepping)stepping;
+    /* the fluids' update: the public code's two stages, or SSP-RK2 */
+    const config_setting_t *integrator_at = config_setting_get_member(g, "integrator");
+    if (integrator_at && !eulerian)
+        return fail_at(L, integrator_at, NULL,
+                       "is for the fluid formulations (\"eulerian-wc\", "
+                       "\"eulerian-compressible\"); formulation \"%s\" steps by time.stepping",
+                       sph_formulation_name(sc->formulation));
+    int integrator = SPH_FLUID_TWO_STAGE;
+    if ((st = get_keyword(L, g, "integrator", false, SPH_FLUID_TWO_STAGE,
+                          KEYS("two-stage", "ssp-rk2"), &integrator, NULL)))
+        return st;
+    sc->fluid_integrator = (sph_fluid_integrator)integrator;
     /* The acoustic step's CFL: 0.4 (000, 003), 0.2 with the Laguerre-Wendland
      * kernel, whose stiffest lattice mode is 2.3x Wendland's at the same h:
      * leapfrog's limit is CFL 0.47 there (tools/kernel_lattice_stiffness.py)

@@ -63,6 +63,10 @@ typedef enum { SPH_STEPPING_DUAL = 0, SPH_STEPPING_SINGLE = 1 } sph_stepping;
  * viscosity at any resolution: the Taylor-Green kinetic energy then stops
  * converging below dp = 1/50, docs/fluids.md) */
 typedef enum { SPH_VISCOUS_SQUARED = 0, SPH_VISCOUS_LINEAR = 1 } sph_viscous_regularization;
+/* The fluids' update (time.integrator, device/eulerian_step.cl): the public
+ * code's two stages (momentum from the state n, then mass and energy with
+ * the new velocity) or SSP-RK2 (Shu & Osher 1988) */
+typedef enum { SPH_FLUID_TWO_STAGE = 0, SPH_FLUID_SSP_RK2 = 1 } sph_fluid_integrator;
 /* values equal the device's KERNEL_* */
 typedef enum {
     SPH_KERNEL_WENDLAND_C2 = 0,
@@ -267,6 +271,7 @@ typedef struct {
     double hourglass_alpha;           /* TLSPH hourglass control (002) */
     double riemann_limiter_slope;     /* 0: unlimited dissipation */
     sph_viscous_regularization viscous_regularization; /* fluids */
+    sph_fluid_integrator fluid_integrator;             /* fluids: time.integrator */
     /* contact between bodies (scenes with several bodies, device/sph_contact.h)
      * and with walls (device/sph_wall.h): factors of the impedance term
      * (1/2 rho0 c0 u between bodies, rho0 c0 u at a wall) and of the penalty

@@ -339,6 +339,9 @@ static const bad_row BAD[] = {
      "%F:5: time.output_interval: must not exceed time.end (1), got 2"},
     {"cfl out of range", "end = 1.0;", "end = 1.0; cfl_acoustic = 1.5;", NULL,
      "%F:5: time.cfl_acoustic: must be in (0, 1], got 1.5"},
+    {"integrator on a solid", "end = 1.0;", "end = 1.0; integrator = \"ssp-rk2\";", NULL,
+     "%F:5: time.integrator: is for the fluid formulations (\"eulerian-wc\", "
+     "\"eulerian-compressible\"); formulation \"enog-a\" steps by time.stepping"},
     {"bad stepping", "end = 1.0;", "end = 1.0; stepping = \"triple\";", NULL,
      "%F:5: time.stepping: must be one of \"dual\", \"single\", got \"triple\""},
     {"missing material key", "density = 7800.0; ", "", NULL,
@@ -785,6 +788,8 @@ static const bad_row FLUID_BAD[] = {
      "advection step"},
     {"eulerian with cfl_advection", "end = 1.0;", "end = 1.0; cfl_advection = 0.2;", NULL,
      "%F:5: time.cfl_advection: is for the formulations whose particles move"},
+    {"eulerian: an unknown integrator", "end = 1.0;", "end = 1.0; integrator = \"rk4\";", NULL,
+     "%F:5: time.integrator: must be one of \"two-stage\", \"ssp-rk2\", got \"rk4\""},
     {"eulerian with frozen_geometry", "end = 1.0;", "end = 1.0; frozen_geometry = \"start\";", NULL,
      "%F:5: time.frozen_geometry: is for the formulations whose particles move"},
     {"eulerian with acceleration_criterion", "end = 1.0;",
@@ -1479,6 +1484,7 @@ static void test_fluids(test_counts *c) {
               s.riemann_limiter_slope);
         CHECK(c, s.viscous_regularization == SPH_VISCOUS_SQUARED,
               "viscous regularization default r / (r^2 + eps^2)");
+        CHECK(c, s.fluid_integrator == SPH_FLUID_TWO_STAGE, "integrator default two-stage");
         CHECK(c, s.cfl_acoustic == 0.3, "cfl 0.6 / 2: %.17g", s.cfl_acoustic);
         CHECK(c, s.stepping == SPH_STEPPING_SINGLE, "single stepping");
         const sph_material *m = &s.materials[0];
@@ -1529,7 +1535,8 @@ static void test_fluids(test_counts *c) {
             {"formulation = \"eulerian-wc\";",
              "formulation = \"eulerian-wc\"; riemann_limiter = 5.0; "
              "viscous_regularization = \"linear\";"},
-            {"end = 1.0;", "end = 1.0; cfl_acoustic = 0.25; reference_speed = 1.0;"},
+            {"end = 1.0;", "end = 1.0; cfl_acoustic = 0.25; reference_speed = 1.0; "
+                           "integrator = \"ssp-rk2\";"},
             {"shape = \"box\";", "shape = \"box\"; initial_density = \"1 + 0.1 * x * y\";"},
             {"lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n};", "lower = [0.0, 0.0]; upper = [1.0, "
                                                                "0.5]; };\n};"},
@@ -1541,7 +1548,8 @@ static void test_fluids(test_counts *c) {
         if (st == SPH_OK) {
             CHECK(c,
                   s.riemann_limiter_slope == 5.0 && s.cfl_acoustic == 0.25 &&
-                      s.viscous_regularization == SPH_VISCOUS_LINEAR,
+                      s.viscous_regularization == SPH_VISCOUS_LINEAR &&
+                      s.fluid_integrator == SPH_FLUID_SSP_RK2,
                   "given values");
             CHECK(c, strcmp(s.bodies[0].initial_density, "1 + 0.1 * x * y") == 0, "text '%s'",
                   s.bodies[0].initial_density);

@@ -126,6 +126,13 @@ def plan(args):
                 for n in args.tgv_n:
                     runs.append({"suite": "tgv", "formulation": form, "kernel": kernel, "n": n,
                                  "limiter": None})
+    # SSP-RK2 (time.integrator) on the cheap ladders: the line and the weakly compressible TGV
+    for r in list(runs):
+        for integrator in args.integrators:
+            cheap = layout_of(r) == "line" or (r["suite"] == "tgv" and
+                                                r["formulation"] == "eulerian-wc")
+            if integrator != "two-stage" and cheap and r["limiter"] in (None, SO_DEFAULT_LIMITER):
+                runs.append(dict(r, integrator=integrator))
     seen, unique = set(), []
     for r in runs:
         key = row_key(r)
@@ -148,6 +155,9 @@ def plan(args):
             r["scene"] = TGV_SCENES[r["formulation"]]
             sets += [f"time.end={TGV_END:g}", "output.snapshot_interval=0"]
             name = f"tgv-{r['formulation']}-{r['kernel']}-n{r['n']}"
+        if integrator_of(r) != "two-stage":
+            sets.append(f"time.integrator={integrator_of(r)}")
+            name += "-" + integrator_of(r)
         r["sets"] = sets
         r["dir"] = os.path.join(args.work, name)
 
@@ -167,8 +177,21 @@ def layout_of(r):
     return r.get("layout", "strip") if r["suite"] == "shu-osher" else None
 
 
+def integrator_of(r):
+    """The fluid update (time.integrator); rows written before the option are two-stage."""
+    return r.get("integrator", "two-stage")
+
+
+def variant_label(r):
+    """The Shu-Osher layout and any integrator other than the default, for tables and plots."""
+    parts = ([layout_of(r)] if layout_of(r) else []) + \
+        ([integrator_of(r)] if integrator_of(r) != "two-stage" else [])
+    return ", ".join(parts)
+
+
 def row_key(r):
-    return (r["suite"], r["formulation"], r["kernel"], r["n"], r["limiter"], layout_of(r))
+    return (r["suite"], r["formulation"], r["kernel"], r["n"], r["limiter"], layout_of(r),
+            integrator_of(r))
 
 
 def command(r):
@@ -307,6 +330,7 @@ def collect(r):
            # the ladder's key: the Shu-Osher's eta; None for the TGV (each scene its own)
            "limiter": r["limiter"], "riemann_limiter": resolved.get("riemann_limiter"),
            "layout": layout_of(r), "dimension": resolved.get("dimension"),
+           "integrator": resolved.get("integrator", integrator_of(r)),
            "particles": s.get("particle_count"), "steps": s.get("acoustic_steps"),
            "end_time": s.get("simulated_time"), "wall_time_s": s.get("wall_time_s"),
            "status": s.get("status"), "device": s.get("device"),
@@ -361,7 +385,7 @@ def add_orders(rows):
     ladders = {}
     for row in rows:
         ladders.setdefault((row["suite"], row["formulation"], row["kernel"], row["limiter"],
-                            layout_of(row)), []).append(row)
+                            layout_of(row), integrator_of(row)), []).append(row)
     for members in ladders.values():
         members.sort(key=lambda x: x["n"])
         for a, b in zip(members, members[1:]):
@@ -391,9 +415,11 @@ def markdown(result, args, png_names):
     rows = result["rows"]
     env = result["environment"]
     so = sorted([r for r in rows if r["suite"] == "shu-osher"],
-                key=lambda r: (layout_of(r) == "line", r["kernel"], r["limiter"], r["n"]))
+                key=lambda r: (layout_of(r) == "line", integrator_of(r) != "two-stage",
+                               r["kernel"], r["limiter"], r["n"]))
     tgv = sorted([r for r in rows if r["suite"] == "tgv"],
-                 key=lambda r: (r["formulation"] != "eulerian-wc", r["kernel"], r["n"]))
+                 key=lambda r: (r["formulation"] != "eulerian-wc", integrator_of(r) != "two-stage",
+                                r["kernel"], r["n"]))
     out = ["# Fluid benchmarks (seed 004 §4.1-4.2)", "",
            "Produced by `tools/bench_fluids.py` (JSON: `bench-results/fluids.json`); the method "
            "and its choices: [fluids.md](fluids.md).  Rerun with", "", "```sh",
@@ -430,7 +456,7 @@ def markdown(result, args, png_names):
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in so:
             out.append(
-                f"| {layout_of(r)} | {KERNEL_LABELS.get(r['kernel'], r['kernel'])} | "
+                f"| {variant_label(r)} | {KERNEL_LABELS.get(r['kernel'], r['kernel'])} | "
                 f"{r['limiter']:g} | "
                 f"{dp_label(r['n'])} | {fmt(r['particles'], 'd')} | {fmt(r['steps'], 'd')} | "
                 f"{fmt(r.get('l1'))} | {fmt(r.get('l1_order'), '.2f', '')} | "
@@ -440,8 +466,11 @@ def markdown(result, args, png_names):
                 f"{load_span(r)} | "
                 f"{r.get('commit') or '?'} |" + (f" {r['error']}" if r.get("error") else ""))
         out.append("")
-        by = {(r["kernel"], r["limiter"], r["n"]): r for r in so if layout_of(r) == "strip"}
-        line_by = {(r["kernel"], r["n"]): r for r in so if layout_of(r) == "line"}
+        two = [r for r in so if integrator_of(r) == "two-stage"]
+        by = {(r["kernel"], r["limiter"], r["n"]): r for r in two if layout_of(r) == "strip"}
+        line_by = {(r["kernel"], r["n"]): r for r in two if layout_of(r) == "line"}
+        rk2_by = {(r["kernel"], r["n"]): r for r in so
+                  if layout_of(r) == "line" and integrator_of(r) == "ssp-rk2"}
         lines = []
         for n in sorted({r["n"] for r in so}):
             lg, w = by.get(("laguerre-gauss", 1.0, n)), by.get(("wendland-c2", 1.0, n))
@@ -474,8 +503,16 @@ def markdown(result, args, png_names):
                         f"({strip['particles']} particles), line L1 {line['l1']:.4g} in "
                         f"{line['wall_time_s']:.1f} s ({line['particles']} particles).")
         for kernel in KERNELS:
+            for n in sorted({r["n"] for r in so}):
+                line, rk2 = line_by.get((kernel, n)), rk2_by.get((kernel, n))
+                if line and rk2 and line.get("l1") and rk2.get("l1"):
+                    lines.append(
+                        f"- line, {KERNEL_LABELS[kernel]}, dp = {dp_label(n)}: two-stage L1 "
+                        f"{line['l1']:.4g} in {line['wall_time_s']:.1f} s, SSP-RK2 "
+                        f"{rk2['l1']:.4g} in {rk2['wall_time_s']:.1f} s.")
+        for kernel in KERNELS:
             for layout in ("strip", "line"):
-                ladder = [r for r in so if r["kernel"] == kernel and r["limiter"] == 1.0 and
+                ladder = [r for r in two if r["kernel"] == kernel and r["limiter"] == 1.0 and
                           layout_of(r) == layout and r.get("l1_order") is not None]
                 if ladder:
                     lines.append(
@@ -504,7 +541,8 @@ def markdown(result, args, png_names):
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in tgv:
             out.append(
-                f"| {r['formulation']} | {KERNEL_LABELS.get(r['kernel'], r['kernel'])} | "
+                f"| {r['formulation']}{', ' + variant_label(r) if variant_label(r) else ''} | "
+                f"{KERNEL_LABELS.get(r['kernel'], r['kernel'])} | "
                 f"{dp_label(r['n'])} | {fmt(r['particles'], 'd')} | {fmt(r['steps'], 'd')} | "
                 f"{fmt(r.get('ke_end'))} | {fmt(r.get('ke_over_exact'), '.4f')} | "
                 f"{fmt(r.get('ke_error'), '.2%')} | {fmt(r.get('ke_error_ratio'), '.2f', '')} | "
@@ -515,15 +553,16 @@ def markdown(result, args, png_names):
         out.append("")
         for form in TGV_SCENES:
             for kernel in KERNELS:
-                ladder = [r for r in tgv if r["formulation"] == form and r["kernel"] == kernel
-                          and r.get("ke_error_ratio") is not None]
-                if ladder:
-                    met = all(r["ke_error_ratio"] >= 3.0 for r in ladder)
-                    out.append(
-                        f"- {form}, {KERNEL_LABELS[kernel]}: error ratio per halving " +
-                        ", ".join(f"{r['ke_error_ratio']:.2f}" for r in ladder) +
-                        " (order " + ", ".join(f"{r['ke_error_order']:.2f}" for r in ladder) +
-                        f"): >= 3 per halving {'met' if met else '**not met**'}.")
+                for integ in ("two-stage", "ssp-rk2"):
+                    ladder = [r for r in tgv if r["formulation"] == form and r["kernel"] == kernel
+                              and integrator_of(r) == integ and r.get("ke_error_ratio") is not None]
+                    if ladder:
+                        met = all(r["ke_error_ratio"] >= 3.0 for r in ladder)
+                        out.append(
+                            f"- {form}, {integ}, {KERNEL_LABELS[kernel]}: error ratio per halving " +
+                            ", ".join(f"{r['ke_error_ratio']:.2f}" for r in ladder) +
+                            " (order " + ", ".join(f"{r['ke_error_order']:.2f}" for r in ladder) +
+                            f"): >= 3 per halving {'met' if met else '**not met**'}.")
         out.append("")
     out += ["## Figures", ""]
     captions = {"shu-osher": "density at t = 1.8 against the reference, whole tube and the "
@@ -563,7 +602,8 @@ def plots(rows, png_dir, title):
         plt.close(fig)
         written[key] = name
     styles = ["-", "--", ":", "-."]
-    so = [r for r in rows if r["suite"] == "shu-osher" and r.get("_profile")]
+    so = [r for r in rows if r["suite"] == "shu-osher" and r.get("_profile") and
+          integrator_of(r) == "two-stage"]
     if so:
         xr, rr = so_reference()
         fig, axes = plt.subplots(2, 1, figsize=(11, 9))
@@ -606,9 +646,12 @@ def plots(rows, png_dir, title):
                 if r["formulation"] != form:
                     continue
                 tt, ke = r["_ke"]
+                rk2 = integrator_of(r) != "two-stage"
                 ax.semilogy(tt, ke, styles[ns.index(r["n"]) % len(styles)],
-                            color=KERNEL_COLOURS.get(r["kernel"], "k"), lw=1.0,
-                            label=f"{KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}")
+                            color=KERNEL_COLOURS.get(r["kernel"], "k"), lw=0.6 if rk2 else 1.0,
+                            alpha=0.6 if rk2 else 1.0,
+                            label=f"{KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}"
+                                  + (f", {integrator_of(r)}" if rk2 else ""))
             if form == "eulerian-compressible":
                 for kernel, ke in PUBLIC_TGV_KE.items():
                     ax.semilogy(PUBLIC_TGV_T, ke, "x", color=KERNEL_COLOURS[kernel], ms=8,
@@ -627,13 +670,14 @@ def plots(rows, png_dir, title):
         out = {}
         for r in rows:
             if r["suite"] == suite and r.get(key):
-                label = (f"{layout_of(r)}, {KERNEL_LABELS.get(r['kernel'])}, "
+                label = (f"{variant_label(r)}, {KERNEL_LABELS.get(r['kernel'])}, "
                          f"eta {r['limiter']:g}"
                          if suite == "shu-osher" else
-                         f"{r['formulation'].replace('eulerian-', '')}, "
+                         f"{r['formulation'].replace('eulerian-', '')}"
+                         f"{', ' + variant_label(r) if variant_label(r) else ''}, "
                          f"{KERNEL_LABELS.get(r['kernel'])}")
                 out.setdefault((label, r["kernel"], r["formulation"], r["limiter"],
-                                layout_of(r)), []).append(r)
+                                layout_of(r), integrator_of(r)), []).append(r)
         return out
     panels = [("shu-osher", "l1", "Shu-Osher: L1 density error, t = 1.8"),
               ("shu-osher", "l1_away_from_shock",
@@ -646,15 +690,16 @@ def plots(rows, png_dir, title):
                                  ("wall_time_s", "error-vs-runtime-fluids.png", "runtime")):
         fig, axes = plt.subplots(1, len(panels), figsize=(5.8 * len(panels), 5.2), squeeze=False)
         for ax, (suite, key, heading) in zip(axes[0], panels):
-            for (label, kernel, form, eta, layout), pts in sorted(series(suite, key).items(),
-                                                                   key=lambda kv: kv[0][0]):
+            for (label, kernel, form, eta, layout, integ), pts in sorted(
+                    series(suite, key).items(), key=lambda kv: kv[0][0]):
                 pts.sort(key=lambda r: r[xkey])
                 dashed = (suite == "tgv" and form == "eulerian-compressible") or \
                     (suite == "shu-osher" and eta != 1.0)
                 dotted = layout == "line"
+                rk2 = integ != "two-stage"
                 ax.loglog([r[xkey] for r in pts], [r[key] for r in pts],
-                          ":" if dotted else "--" if dashed else "-",
-                          marker="^" if dotted else "s" if dashed else "o",
+                          "-." if rk2 else ":" if dotted else "--" if dashed else "-",
+                          marker="D" if rk2 else "^" if dotted else "s" if dashed else "o",
                           color=KERNEL_COLOURS.get(kernel, "k"), label=label)
                 for r in pts:
                     ax.annotate(dp_label(r["n"]), (r[xkey], r[key]), fontsize=7,
@@ -700,6 +745,10 @@ def main():
                     help="Shu-Osher dp = 1/N ladder (default 200 400 800)")
     ap.add_argument("--so-layouts", nargs="+", default=list(SO_SCENES), choices=list(SO_SCENES),
                     help="the tube as the 2D strip (scene.cfg) and/or the 1D line (line.cfg)")
+    ap.add_argument("--integrators", nargs="+", default=["two-stage", "ssp-rk2"],
+                    choices=["two-stage", "ssp-rk2"],
+                    help="time.integrator; SSP-RK2 runs the cheap ladders only (the line, the "
+                         "weakly compressible TGV)")
     ap.add_argument("--so-limiters", type=float, nargs="+", default=[1.0, 5.0], metavar="ETA",
                     help="eta_HLLC compared at --so-limiter-n (default 1 5)")
     ap.add_argument("--so-limiter-n", type=int, nargs="*", default=[200], metavar="N",
@@ -806,7 +855,7 @@ def main():
         extra = (f", away from shock {r['l1_away_from_shock']:.4g}"
                  if r.get("l1_away_from_shock") else "")
         order = r.get("l1_order", r.get("ke_error_order"))
-        print(f"{r['suite']:9s} {layout_of(r) or '':5s} {r['formulation']:21s} {r['kernel']:14s} "
+        print(f"{r['suite']:9s} {variant_label(r):14s} {r['formulation']:21s} {r['kernel']:14s} "
               f"eta {fmt(r['limiter'], 'g', '-'):3s} dp {dp_label(r['n']):6s} "
               f"error {fmt(err)}{extra}" + (f" order {order:.2f}" if order else "") +
               f"  wall {fmt(r['wall_time_s'], '.1f')} s" +
