@@ -1047,11 +1047,15 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
              " -DSPH_STEP_CLOCK=%d -DSPH_REDUCE_BLOCKS=%d -DSPH_COUNTING_SORT=%d",
              o->device_clock ? 1 : 0, o->reduce_blocks ? 1 : 0, o->counting_sort ? 1 : 0);
     if (!quiet) fprintf(stderr, "sphsolid: OpenCL build options: %s\n", be->build_options);
-    const char *files[] = {"neighbour_build.cl", "acoustic_step.cl", "tl_step.cl", "reduction.cl",
-                           "monitor.cl"};
-    st = sph_opencl_build_program(o->ctx, o->dev.device, files,
-                                  (int)(sizeof files / sizeof files[0]), be->build_options,
-                                  &o->program, err);
+    /* a fluid program has no solid pass: reduction.cl brings eulerian_step.cl */
+    const char *solid_files[] = {"neighbour_build.cl", "acoustic_step.cl", "tl_step.cl",
+                                 "reduction.cl", "monitor.cl"};
+    const char *fluid_files[] = {"neighbour_build.cl", "reduction.cl", "monitor.cl"};
+    const bool fluid = FORM_IS_EULERIAN((int)f->formulation);
+    st = sph_opencl_build_program(o->ctx, o->dev.device, fluid ? fluid_files : solid_files,
+                                  fluid ? (int)(sizeof fluid_files / sizeof fluid_files[0])
+                                        : (int)(sizeof solid_files / sizeof solid_files[0]),
+                                  be->build_options, &o->program, err);
     if (st) goto fail;
 
     for (int k = 0; k < FIELD_COUNT && !st; ++k) {
