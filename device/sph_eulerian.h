@@ -17,6 +17,7 @@
  */
 #ifndef SPH_EULERIAN_H
 #define SPH_EULERIAN_H
+#include "sph_riemann.h"
 #include "sph_vec.h"
 
 /* One side of a pair. */
@@ -68,21 +69,8 @@ FN real ideal_gas_sound_speed(const real p, const real rho, const real gamma) {
     return sqrt(gamma * p / rho);
 }
 
-/* min(x, 1) and the limiter's max(du, 0) as comparisons: fmin and fmax are
- * library calls in the native build (-fno-fast-math keeps their NaN rules;
- * 8 % of a Taylor-Green run went to them), and the comparisons give the
- * same values, NaN included (NaN > 0 and NaN < 1 are false: 0 and 1, as
- * fmax(NaN, 0) and fmin(NaN, 1)). */
-FN real at_most_one(const real x) {
-    return x < R(1) ? x : R(1);
-}
-
-/* The dissipation limiter of eqs. 19-22: beta = min(eta max(u_l - u_r, 0) / c, 1);
- * eta <= 0 leaves the solver unlimited (beta = 1). */
-FN real eulerian_limiter(const real du, const real c, const real eta) {
-    if (eta <= R(0)) return R(1);
-    return at_most_one(du > R(0) ? eta * du / c : R(0));
-}
+/* The dissipation limiter of eqs. 19-22, beta = min(eta max(u_l - u_r, 0) / c, 1),
+ * is the solids' riemann_limiter (sph_riemann.h). */
 
 /* Linearised (acoustic) solver with the limiter, eqs. 17, 21-22, as the
  * public code's current AcousticRiemannSolver: impedance Z = rho0 c0,
@@ -138,7 +126,7 @@ FN fluid_state riemann_hllc(const fluid_side l, const fluid_side r, const vec e_
     const real c_l = l.c, c_r = r.c;
     const real s_l = l.u - c_l, s_r = r.u + c_r;
     const real cbar = (l.rho * c_l + r.rho * c_r) / (l.rho + r.rho);
-    const real beta = eulerian_limiter(l.u - r.u, cbar, eta);
+    const real beta = riemann_limiter(l.u - r.u, cbar, eta);
     const real ml = l.rho * (s_l - l.u), mr = r.rho * (s_r - r.u);
     const real den = ml - mr;
     const real s_star = fabs(den) > R(1e-14)
