@@ -723,8 +723,12 @@ def plots(rows, png_dir, title):
                 mid = (ylo * yhi) ** 0.5
                 ax.set_ylim(mid / 2, mid * 2)
             for axis in (ax.xaxis, ax.yaxis):
-                axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
-                axis.set_minor_formatter(FuncFormatter(minor_label))
+                axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+                lo, hi = axis.get_view_interval()
+                # minor labels only where the axis spans at most two decades: wider, they
+                # collide
+                if lo > 0 and hi / lo <= 100:
+                    axis.set_minor_formatter(FuncFormatter(minor_label))
             ax.set_title(heading, fontsize=10)
             ax.set_ylabel("error")
             ax.grid(True, which="both", alpha=0.3)
