@@ -129,6 +129,18 @@ FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const f
 #        define SOUND_OF(k) R(0)
 #    endif
 
+#    if SPH_FLUID_KINDS
+/* A fluid particle's interface with a wall particle (at rest): the Riemann
+ * problem along the wall particle's normal n_j against the mirrored state
+ * (rho_i, p_i, -v_i) (eulerian-sph-reference.md §1, §4). */
+FN fluid_state wall_interface(const fluid_solver solver, const real rho_i, const real p_i,
+                              const vec v_i, const real energy_i, const real c_i, const vec n_j) {
+    return fluid_interface(solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, n_j),
+                           fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, c_i, n_j),
+                           n_j);
+}
+#    endif
+
 /* Once, before the first step: the pressure of the WC state by the EOS, or
  * the total energy and sound speed of the compressible state from its
  * pressure (both particle-local). */
@@ -232,15 +244,10 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         const real visc_w = dwv * pair_inv_r[slot]; /* dW w_j r / (r^2 + eps^2) */
 #        if SPH_FLUID_KINDS
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
-            /* the wall (at rest): the Riemann problem along the wall
-             * particle's normal n_j against the mirrored state (rho_i, p_i,
-             * -v_i), the flux along the pair's corrected gradient; the
-             * no-slip viscous term with 4 mu (eulerian-sph-reference.md §1,
-             * §4) */
-            const vec n_j = vec_load(normal, n, j);
-            const fluid_state s = fluid_interface(
-                solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, n_j),
-                fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, c_i, n_j), n_j);
+            /* the wall: its interface state, the flux along the pair's
+             * corrected gradient; the no-slip viscous term with 4 mu */
+            const fluid_state s =
+                wall_interface(solver, rho_i, p_i, v_i, energy_i, c_i, vec_load(normal, n, j));
             wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
             wall_visc = vec_axpy(wall_visc, visc_w, v_i);
             continue;
@@ -435,10 +442,8 @@ KERNEL void eulerian_rates(
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* as eulerian_momentum_rate's wall pairs; no mass or energy
              * crosses the wall */
-            const vec n_j = vec_load(normal, n, j);
-            const fluid_state s = fluid_interface(
-                solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, n_j),
-                fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, c_i, n_j), n_j);
+            const fluid_state s =
+                wall_interface(solver, rho_i, p_i, v_i, energy_i, c_i, vec_load(normal, n, j));
             wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
             wall_visc = vec_axpy(wall_visc, visc_w, v_i);
             curl = curl_add(curl, g, vec_scale(v_i, R(-1)));
