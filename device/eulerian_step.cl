@@ -129,15 +129,44 @@ FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const f
 #        define SOUND_OF(k) R(0)
 #    endif
 
+/* A particle's state as a side of its pairs: density, pressure, velocity,
+ * total energy per volume (compressible, else 0) and sound speed
+ * (compressible, else 0).  FLUID_POINT(k, v) reads particle k's (with the
+ * velocity v the pass uses: v^n or v'). */
+typedef struct {
+    real rho, p;
+    vec v;
+    real energy, c;
+} fluid_point;
+FN fluid_point fluid_point_make(const real rho, const real p, const vec v, const real energy,
+                                const real c) {
+    fluid_point q;
+    q.rho = rho;
+    q.p = p;
+    q.v = v;
+    q.energy = energy;
+    q.c = c;
+    return q;
+}
+#    define FLUID_POINT(k, v_k)                                                                    \
+        fluid_point_make((real)rho[k], pressure[k], (v_k), ENERGY_PER_VOLUME(k), SOUND_OF(k))
+
+/* The interface state of the pair (i, j) along e_ij (eq. 14's Riemann
+ * problem). */
+FN fluid_state pair_interface(const fluid_solver solver, const fluid_point a, const fluid_point b,
+                              const vec e_ij) {
+    return fluid_interface(solver, fluid_side_make(a.rho, a.p, a.v, a.energy, a.c, e_ij),
+                           fluid_side_make(b.rho, b.p, b.v, b.energy, b.c, e_ij), e_ij);
+}
+
 #    if SPH_FLUID_KINDS
 /* A fluid particle's interface with a wall particle (at rest): the Riemann
  * problem along the wall particle's normal n_j against the mirrored state
  * (rho_i, p_i, -v_i) (eulerian-sph-reference.md §1, §4). */
-FN fluid_state wall_interface(const fluid_solver solver, const real rho_i, const real p_i,
-                              const vec v_i, const real energy_i, const real c_i, const vec n_j) {
-    return fluid_interface(solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, n_j),
-                           fluid_side_make(rho_i, p_i, vec_scale(v_i, R(-1)), energy_i, c_i, n_j),
-                           n_j);
+FN fluid_state wall_interface(const fluid_solver solver, const fluid_point a, const vec n_j) {
+    fluid_point mirror = a;
+    mirror.v = vec_scale(a.v, R(-1));
+    return pair_interface(solver, a, mirror, n_j);
 }
 #    endif
 
@@ -228,8 +257,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
     const real mu = prm->materials[0].viscosity;
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
-    const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
-    const real c_i = SOUND_OF(i);
+    const fluid_point q_i = FLUID_POINT(i, v_i);
     vec flux = vec_zero(), visc = vec_zero();
     /* wall pairs: their pressure flux and velocity sums */
     vec wall_flux = vec_zero(), wall_visc = vec_zero();
@@ -246,18 +274,14 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* the wall: its interface state, the flux along the pair's
              * corrected gradient; the no-slip viscous term with 4 mu */
-            const fluid_state s =
-                wall_interface(solver, rho_i, p_i, v_i, energy_i, c_i, vec_load(normal, n, j));
+            const fluid_state s = wall_interface(solver, q_i, vec_load(normal, n, j));
             wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
             wall_visc = vec_axpy(wall_visc, visc_w, v_i);
             continue;
         }
 #        endif
         const vec v_j = vec_load(vel, n, j);
-        const fluid_state s = fluid_interface(
-            solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
-            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), SOUND_OF(j), e),
-            e);
+        const fluid_state s = pair_interface(solver, q_i, FLUID_POINT(j, v_j), e);
         flux = vec_axpy(flux, dwv, fluid_momentum_flux(s, e));
         visc = vec_axpy(visc, visc_w, vec_sub(v_i, v_j));
     }
@@ -299,8 +323,7 @@ KERNEL void eulerian_mass_energy_rate(
     const int stride = n * cap;
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel_stage, n, i);
-    const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
-    const real c_i = SOUND_OF(i);
+    const fluid_point q_i = FLUID_POINT(i, v_i);
     real mass_flux = R(0);
 #        if SPH_HAS_COMPRESSIBLE
     real energy_flux = R(0), heat = R(0);
@@ -329,10 +352,7 @@ KERNEL void eulerian_mass_energy_rate(
         }
 #        endif
         const vec v_j = vec_load(vel_stage, n, j);
-        const fluid_state s = fluid_interface(
-            solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
-            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), SOUND_OF(j), e),
-            e);
+        const fluid_state s = pair_interface(solver, q_i, FLUID_POINT(j, v_j), e);
         const real vn = vec_dot(s.v, e);
         mass_flux += s.rho * vn * dwv;
         const vec dv = vec_sub(v_j, v_i);
@@ -420,8 +440,7 @@ KERNEL void eulerian_rates(
     const real mu = prm->materials[0].viscosity;
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
-    const real rho_i = (real)rho[i], p_i = pressure[i], energy_i = ENERGY_PER_VOLUME(i);
-    const real c_i = SOUND_OF(i);
+    const fluid_point q_i = FLUID_POINT(i, v_i);
     vec flux = vec_zero(), visc = vec_zero(), curl = vec_zero();
     vec wall_flux = vec_zero(), wall_visc = vec_zero();
     real mass_flux = R(0);
@@ -442,8 +461,7 @@ KERNEL void eulerian_rates(
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
             /* as eulerian_momentum_rate's wall pairs; no mass or energy
              * crosses the wall */
-            const fluid_state s =
-                wall_interface(solver, rho_i, p_i, v_i, energy_i, c_i, vec_load(normal, n, j));
+            const fluid_state s = wall_interface(solver, q_i, vec_load(normal, n, j));
             wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
             wall_visc = vec_axpy(wall_visc, visc_w, v_i);
             curl = curl_add(curl, g, vec_scale(v_i, R(-1)));
@@ -451,10 +469,7 @@ KERNEL void eulerian_rates(
         }
 #        endif
         const vec v_j = vec_load(vel, n, j);
-        const fluid_state s = fluid_interface(
-            solver, fluid_side_make(rho_i, p_i, v_i, energy_i, c_i, e),
-            fluid_side_make((real)rho[j], pressure[j], v_j, ENERGY_PER_VOLUME(j), SOUND_OF(j), e),
-            e);
+        const fluid_state s = pair_interface(solver, q_i, FLUID_POINT(j, v_j), e);
         const vec dv = vec_sub(v_j, v_i);
         const real vn = vec_dot(s.v, e);
         flux = vec_axpy(flux, dwv, fluid_momentum_flux(s, e));
