@@ -87,6 +87,43 @@
 #        define WALL_FORCE_PARAM
 #    endif
 
+/* The frozen pair rows: particle i's ROW_COUNT(i) pairs at the slots
+ * ROW_SLOT(i, k) of nbr_j and the pair arrays, the components of e_ij
+ * ROWS_STRIDE apart.  The native backend packs the rows (the pairs of
+ * particle i at row_start[i] ... row_start[i + 1] - 1; host/backend_cpu.c
+ * packs the rebuild's rows once, before eulerian_correct_pairs): the
+ * rebuild pads every row to the busiest one's length, cap, and a wall body
+ * at dp/2 gives its particles and the fluid beside it two to four times the
+ * 20 pairs of the fluid lattice; the pair loops then stream padded rows
+ * (the cylinder at dp = 1/10: 104 steps on one thread 12.0 s padded, 5.45 s
+ * packed; docs/fluids.md, "Speed on the CPU").  OpenCL devices keep the
+ * padded rows: a GPU reads them column-major, where the padding is never
+ * read. */
+#    if !SPH_OPENCL
+#        define PAIR_ROWS_PARAMS                                                                   \
+            GLOBAL const int *restrict row_start, GLOBAL const int *restrict row_walls,            \
+                GLOBAL const int *restrict nbr_j
+#        define ROW_COUNT(i)   (row_start[(i) + 1] - row_start[i])
+#        define ROW_SLOT(i, k) (row_start[i] + (k))
+#        define ROWS_STRIDE    row_start[n]
+/* The packing also puts a row's wall pairs last, row_walls[i] of them
+ * (NULL: no walls), so the passes' lanes see fluid pairs only and sum the
+ * wall pairs after them, without asking each neighbour's kind (a tenth of
+ * the cylinder's step). */
+#        define WALL_PAIRS_LAST   1
+#        define ROW_WALL_PAIRS(i) (PRESENT(row_walls) ? row_walls[i] : 0)
+#        define ROW_WALLS_UNUSED  (void)row_walls /* passes that ask each pair's kind */
+#    else
+#        define PAIR_ROWS_PARAMS                                                                   \
+            const int cap, GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j
+#        define ROW_COUNT(i)      nbr_count[i]
+#        define ROW_SLOT(i, k)    NBR_AT(i, k)
+#        define ROWS_STRIDE       (n * cap)
+#        define WALL_PAIRS_LAST   0
+#        define ROW_WALL_PAIRS(i) 0
+#        define ROW_WALLS_UNUSED  (void)0
+#    endif
+
 /* The side of particle k of pair (i, j) along e_ij. */
 FN fluid_side fluid_side_make(const real rho, const real p, const vec v, const real energy,
                               const real c, const vec e_ij) {
@@ -170,6 +207,178 @@ FN fluid_state wall_interface(const fluid_solver solver, const fluid_point a, co
 }
 #    endif
 
+/* The two-stage passes sum their fluid pairs in lanes (SPH_PAIR_LANES,
+ * sph_prelude.h; sph_eulerian.h has the solver on lanes): the states of the
+ * lanes' neighbours j (fluid_point_lanes), their frozen geometry (e_ij,
+ * dW w_j and, for the viscous weight, pair_inv_r: pair_lanes_geometry) and
+ * keep, 1 for a fluid pair and 0 for an empty lane (past the end of the
+ * row, or on OpenCL a wall pair, which the passes sum one by one), whose
+ * neighbour is i itself: its terms are zeros. */
+typedef struct {
+    lanes rho, p;
+    lanes_vec v;
+    lanes energy, c;
+} fluid_point_lanes;
+/* The neighbours' states gathered as scalars first, then built into
+ * vectors (LANES_FROM); keep is 1 for a fluid pair, 0 for an empty lane. */
+typedef struct {
+    real rho[SPH_PAIR_LANES], p[SPH_PAIR_LANES], energy[SPH_PAIR_LANES], c[SPH_PAIR_LANES];
+    real v[SPH_DIM][SPH_PAIR_LANES], keep[SPH_PAIR_LANES];
+} fluid_point_gather;
+FN_HOT void fluid_point_gather_set(fluid_point_gather *g, const int l, const fluid_point q,
+                                   const real keep) {
+    g->rho[l] = q.rho;
+    g->p[l] = q.p;
+    g->energy[l] = q.energy;
+    g->c[l] = q.c;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) g->v[a][l] = q.v.c[a];
+    g->keep[l] = keep;
+}
+FN_HOT fluid_point_lanes fluid_point_lanes_from(const fluid_point_gather *g, lanes *keep) {
+    fluid_point_lanes q;
+    q.rho = LANES_FROM(g->rho);
+    q.p = LANES_FROM(g->p);
+    q.energy = LANES_FROM(g->energy);
+    q.c = LANES_FROM(g->c);
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) q.v.c[a] = LANES_FROM(g->v[a]);
+    *keep = LANES_FROM(g->keep);
+    return q;
+}
+
+/* The lanes from k0 of a pass's pairs k < lanes_end: PAIR_LANES_GEOMETRY
+ * loads their geometry, whole vectors where the row holds all of them, else
+ * lane by lane with zeros past lanes_end; lane l's neighbour
+ * (LANE_PAIR_BEGIN: its slot, and j, i past lanes_end) goes into the gather
+ * by fluid_point_gather_set, or LANE_PAIR_EMPTY where the lane is no fluid
+ * pair. */
+FN lanes lanes_load_row(GLOBAL const real *p) {
+#    if SPH_PAIR_LANES > 1
+    lanes v;
+    __builtin_memcpy(&v, p, sizeof v);
+    return v;
+#    else
+    return *p;
+#    endif
+}
+/* The lanes' geometry from slot0, the slot of the first (in a packed row
+ * the lanes' slots follow it; in OpenCL there is one lane), left = pairs
+ * left in the row. */
+FN_HOT void pair_lanes_geometry(GLOBAL const real *restrict pair_e,
+                                GLOBAL const real *restrict pair_dwv,
+                                GLOBAL const real *restrict pair_inv_r, const int stride,
+                                const int slot0, const int left, lanes_vec *e, lanes *dwv,
+                                lanes *inv_r) {
+    if (left >= SPH_PAIR_LANES) {
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e->c[a] =
+            lanes_load_row(pair_e + a * stride + slot0);
+        *dwv = lanes_load_row(pair_dwv + slot0);
+        if (inv_r) *inv_r = lanes_load_row(pair_inv_r + slot0);
+        return;
+    }
+    real e_s[SPH_DIM][SPH_PAIR_LANES], dwv_s[SPH_PAIR_LANES], inv_r_s[SPH_PAIR_LANES];
+    UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        const bool live = l < left;
+        const int slot = slot0 + (live ? l : 0);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e_s[a][l] =
+            live ? pair_e[a * stride + slot] : R(0);
+        dwv_s[l] = live ? pair_dwv[slot] : R(0);
+        inv_r_s[l] = live && inv_r ? pair_inv_r[slot] : R(0);
+    }
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) e->c[a] = LANES_FROM(e_s[a]);
+    *dwv = LANES_FROM(dwv_s);
+    if (inv_r) *inv_r = LANES_FROM(inv_r_s);
+}
+#    define PAIR_LANES_GEOMETRY(e_, dwv_, inv_r_)                                                  \
+        pair_lanes_geometry(pair_e, pair_dwv, pair_inv_r, stride, ROW_SLOT(i, k0), lanes_end - k0, \
+                            &(e_), &(dwv_), (inv_r_))
+#    define LANE_PAIR_BEGIN(l)                                                                     \
+        const int k_ = k0 + (l);                                                                   \
+        const bool live_ = k_ < lanes_end;                                                         \
+        const int slot = ROW_SLOT(i, live_ ? k_ : 0);                                              \
+        const int j = live_ ? nbr_j[slot] : i
+#    define LANE_PAIR_EMPTY(gather_, l) fluid_point_gather_set(&(gather_), (l), q_i, R(0))
+
+/* The interface states of lanes of pairs (i, j): the linearised solver on
+ * the lanes, HLLC (its branches) lane by lane. */
+FN_HOT fluid_state_lanes pair_interface_lanes(const fluid_solver solver, const fluid_point a,
+                                              const fluid_point_lanes b, const lanes_vec e_ij) {
+    fluid_state_lanes s;
+#    if SPH_HAS_COMPRESSIBLE
+    real rho_s[SPH_PAIR_LANES], p_s[SPH_PAIR_LANES], energy_s[SPH_PAIR_LANES],
+        v_s[SPH_DIM][SPH_PAIR_LANES];
+    UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        vec e, v_b;
+        UNROLL for (int c = 0; c < SPH_DIM; ++c) {
+            e.c[c] = LANE(e_ij.c[c], l);
+            v_b.c[c] = LANE(b.v.c[c], l);
+        }
+        const fluid_state one = pair_interface(
+            solver, a,
+            fluid_point_make(LANE(b.rho, l), LANE(b.p, l), v_b, LANE(b.energy, l), LANE(b.c, l)),
+            e);
+        rho_s[l] = one.rho;
+        p_s[l] = one.p;
+        energy_s[l] = one.energy;
+        UNROLL for (int c = 0; c < SPH_DIM; ++c) v_s[c][l] = one.v.c[c];
+    }
+    s.rho = LANES_FROM(rho_s);
+    s.p = LANES_FROM(p_s);
+    s.energy = LANES_FROM(energy_s);
+    UNROLL for (int c = 0; c < SPH_DIM; ++c) s.v.c[c] = LANES_FROM(v_s[c]);
+#    else
+    /* fluid_side_make on lanes: the same operations */
+    fluid_side_lanes l, r;
+    l.rho = lanes_broadcast(a.rho);
+    l.p = lanes_broadcast(a.p);
+    r.rho = b.rho;
+    r.p = b.p;
+    r.v = b.v;
+    UNROLL for (int c = 0; c < SPH_DIM; ++c) l.v.c[c] = lanes_broadcast(a.v.c[c]);
+    l.u = -lanes_dot(e_ij, l.v);
+    r.u = -lanes_dot(e_ij, r.v);
+    s = riemann_linearised_lanes(l, r, e_ij, solver);
+#    endif
+    return s;
+}
+
+#    if SPH_FLUID_KINDS
+/* One wall pair (i, j) of the two-stage passes, from its slot: its frozen
+ * geometry and the wall particle's normal. */
+typedef struct {
+    vec e, n_j;
+    real dwv, inv_r;
+} wall_pair;
+#        define WALL_PAIR_ARGS(slot, j)                                                            \
+            wall_pair_load(pair_e, pair_dwv, pair_inv_r, stride, (slot), normal, n, (j))
+FN wall_pair wall_pair_load(GLOBAL const real *restrict pair_e,
+                            GLOBAL const real *restrict pair_dwv,
+                            GLOBAL const real *restrict pair_inv_r, const int stride,
+                            const int slot, GLOBAL const real *restrict normal, const int n,
+                            const int j) {
+    wall_pair w;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) w.e.c[a] = pair_e[a * stride + slot];
+    w.dwv = pair_dwv[slot];
+    w.inv_r = pair_inv_r[slot];
+    w.n_j = vec_load(normal, n, j);
+    return w;
+}
+/* The momentum pass's wall pair: its interface state, the flux along the
+ * pair's corrected gradient; the no-slip viscous term (4 mu, applied by
+ * the caller) from v_i against the wall at rest. */
+FN void momentum_wall_pair(const fluid_solver solver, const fluid_point q_i, const wall_pair w,
+                           vec *wall_flux, vec *wall_visc) {
+    const fluid_state s = wall_interface(solver, q_i, w.n_j);
+    *wall_flux = vec_axpy(*wall_flux, w.dwv, fluid_momentum_flux(s, w.e));
+    *wall_visc = vec_axpy(*wall_visc, w.dwv * w.inv_r, q_i.v);
+}
+/* The mass pass's wall pair: no mass crosses the wall (against the
+ * mirrored state the linearised solver's v* is 0); the vorticity sees the
+ * wall at rest. */
+FN vec curl_of_wall_pair(const vec curl, const vec v_i, const wall_pair w) {
+    return curl_add(curl, vec_scale(w.e, w.dwv), vec_scale(v_i, R(-1)));
+}
+#    endif
+
 /* Once, before the first step: the pressure of the WC state by the EOS, or
  * the total energy and sound speed of the compressible state from its
  * pressure (both particle-local). */
@@ -203,20 +412,19 @@ KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
  * (method.viscous_regularization, host/scene.h): the step has no division
  * per pair.
  * g_ji = -g_ij exactly, so the pair terms stay antisymmetric. */
-KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap, CONSTANT sph_params *prm,
-                                   GLOBAL const int *restrict nbr_count,
-                                   GLOBAL const int *restrict nbr_j,
-                                   GLOBAL const real *restrict bmat, GLOBAL real *restrict pair_e,
-                                   GLOBAL real *restrict pair_dwv,
+KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, CONSTANT sph_params *prm,
+                                   PAIR_ROWS_PARAMS, GLOBAL const real *restrict bmat,
+                                   GLOBAL real *restrict pair_e, GLOBAL real *restrict pair_dwv,
                                    GLOBAL real *restrict pair_inv_r) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    const int stride = n * cap;
+    ROW_WALLS_UNUSED;
+    const int stride = ROWS_STRIDE;
     const real eps_linear = prm->viscous_eps_linear, eps_squared = prm->viscous_eps_squared;
     const mat b_i = sym_load(bmat, n, i);
-    const int count = nbr_count[i];
+    const int count = ROW_COUNT(i);
     for (int k = 0; k < count; ++k) {
-        const int slot = NBR_AT(i, k);
+        const int slot = ROW_SLOT(i, k);
         const int j = nbr_j[slot];
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
@@ -241,9 +449,8 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, const int cap, CONSTA
  * velocity v'_i = (m v)^{n+1} / m^n = v_i + dt F_i / m_i (the public code's
  * v^{n+1} = mv / m^n); fixed-state and wall particles keep v' = v. */
 KERNEL void
-eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
-                       CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
-                       GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
+eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
+                       PAIR_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
                        GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
                        GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel,
                        GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
@@ -253,37 +460,56 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
-    const int stride = n * cap;
+    const int stride = ROWS_STRIDE;
     const real mu = prm->materials[0].viscosity;
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
-    vec flux = vec_zero(), visc = vec_zero();
+    /* the fluid pairs' sums in lanes (sph_prelude.h) */
+    lanes lane_flux[SPH_DIM], lane_visc[SPH_DIM];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_flux[a] = lane_visc[a] = lanes_zero();
     /* wall pairs: their pressure flux and velocity sums */
     vec wall_flux = vec_zero(), wall_visc = vec_zero();
     /* fixed-state and wall particles do not evolve: F = 0 */
-    const int count = IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
-    for (int k = 0; k < count; ++k) {
-        const int slot = NBR_AT(i, k);
-        const int j = nbr_j[slot];
-        vec e;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
-        const real dwv = pair_dwv[slot];
-        const real visc_w = dwv * pair_inv_r[slot]; /* dW w_j r / (r^2 + eps^2) */
-#        if SPH_FLUID_KINDS
-        if (KIND_OF(j) == SPH_PARTICLE_WALL) {
-            /* the wall: its interface state, the flux along the pair's
-             * corrected gradient; the no-slip viscous term with 4 mu */
-            const fluid_state s = wall_interface(solver, q_i, vec_load(normal, n, j));
-            wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
-            wall_visc = vec_axpy(wall_visc, visc_w, v_i);
-            continue;
-        }
+    const int count = IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
+    /* the lanes' pairs: all, or the fluid pairs before the row's walls */
+    const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
+    for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
+        lanes_vec e;
+        lanes dwv, inv_r;
+        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
+        fluid_point_gather gq;
+        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+            LANE_PAIR_BEGIN(l);
+#        if SPH_FLUID_KINDS && !WALL_PAIRS_LAST
+            if (live_ && KIND_OF(j) == SPH_PARTICLE_WALL) {
+                momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, j), &wall_flux, &wall_visc);
+                LANE_PAIR_EMPTY(gq, l);
+                continue;
+            }
 #        endif
-        const vec v_j = vec_load(vel, n, j);
-        const fluid_state s = pair_interface(solver, q_i, FLUID_POINT(j, v_j), e);
-        flux = vec_axpy(flux, dwv, fluid_momentum_flux(s, e));
-        visc = vec_axpy(visc, visc_w, vec_sub(v_i, v_j));
+            fluid_point_gather_set(&gq, l, FLUID_POINT(j, vec_load(vel, n, j)), R(1));
+        }
+        lanes keep;
+        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
+        const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
+        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        const lanes vn = lanes_dot(s.v, e);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            lane_flux[a] += dwv_k * fluid_momentum_flux_lanes(s, vn, e, a);
+            lane_visc[a] += visc_w * (v_i.c[a] - q.v.c[a]);
+        }
+    }
+#        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
+    for (int k = lanes_end; k < count; ++k) {
+        const int slot = ROW_SLOT(i, k);
+        momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux, &wall_visc);
+    }
+#        endif
+    vec flux = vec_zero(), visc = vec_zero();
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+        flux.c[a] += LANE(lane_flux[a], l);
+        visc.c[a] += LANE(lane_visc[a], l);
     }
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
@@ -309,8 +535,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
  * vorticity of v' (curl v = sum_j (v_j - v_i) x grad'W_ij w_j: 2D its z
  * component, 3D all three). */
 KERNEL void eulerian_mass_energy_rate(
-    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
-    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+    ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
     GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
     GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
     GLOBAL const real *restrict vel_stage, GLOBAL const real *restrict vol,
@@ -320,52 +545,92 @@ KERNEL void eulerian_mass_energy_rate(
     (void)dt;
     const int i = ITEM_ID;
     if (i >= n) return;
-    const int stride = n * cap;
+    const int stride = ROWS_STRIDE;
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel_stage, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
-    real mass_flux = R(0);
+    /* the fluid pairs' sums in lanes (sph_prelude.h), the walls' curl apart */
+    lanes lane_mass = lanes_zero(), lane_curl[3];
+    UNROLL for (int a = 0; a < 3; ++a) lane_curl[a] = lanes_zero();
 #        if SPH_HAS_COMPRESSIBLE
-    real energy_flux = R(0), heat = R(0);
+    lanes lane_energy = lanes_zero(), lane_heat = lanes_zero();
 #        else
     (void)pair_inv_r;
 #        endif
 #        if SPH_FLUID_KINDS
     (void)normal;
 #        endif
-    vec curl = vec_zero(); /* NSPIN components used */
+    vec wall_curl = vec_zero(); /* NSPIN components used */
     /* a wall particle's rates are never used (the update leaves it alone) */
-    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
-    for (int k = 0; k < count; ++k) {
-        const int slot = NBR_AT(i, k);
-        const int j = nbr_j[slot];
-        vec e;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
-        const real dwv = pair_dwv[slot];
-        const vec g = vec_scale(e, dwv);
-#        if SPH_FLUID_KINDS
-        if (KIND_OF(j) == SPH_PARTICLE_WALL) {
-            /* no mass crosses the wall (against the mirrored state the
-             * linearised solver's v* is 0); the vorticity sees it at rest */
-            curl = curl_add(curl, g, vec_scale(v_i, R(-1)));
-            continue;
-        }
-#        endif
-        const vec v_j = vec_load(vel_stage, n, j);
-        const fluid_state s = pair_interface(solver, q_i, FLUID_POINT(j, v_j), e);
-        const real vn = vec_dot(s.v, e);
-        mass_flux += s.rho * vn * dwv;
-        const vec dv = vec_sub(v_j, v_i);
-        curl = curl_add(curl, g, dv);
+    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
+    /* the lanes' pairs: all, or the fluid pairs before the row's walls */
+    const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
+    for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
+        lanes_vec e;
+        lanes dwv;
 #        if SPH_HAS_COMPRESSIBLE
-        energy_flux += (s.energy + s.p) * vn * dwv;
+        lanes inv_r;
+        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
+#        else
+        PAIR_LANES_GEOMETRY(e, dwv, (lanes *)0);
+#        endif
+        fluid_point_gather gq;
+        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+            LANE_PAIR_BEGIN(l);
+#        if SPH_FLUID_KINDS && !WALL_PAIRS_LAST
+            if (live_ && KIND_OF(j) == SPH_PARTICLE_WALL) {
+                wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot, j));
+                LANE_PAIR_EMPTY(gq, l);
+                continue;
+            }
+#        endif
+            fluid_point_gather_set(&gq, l, FLUID_POINT(j, vec_load(vel_stage, n, j)), R(1));
+        }
+        lanes keep;
+        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
+        const lanes dwv_k = dwv * keep;
+        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        const lanes vn = lanes_dot(s.v, e);
+        lane_mass += s.rho * vn * dwv_k;
+        lanes_vec g, dv;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            g.c[a] = e.c[a] * dwv_k;
+            dv.c[a] = q.v.c[a] - v_i.c[a];
+        }
+        curl_add_lanes(lane_curl, g, dv);
+#        if SPH_HAS_COMPRESSIBLE
+        lane_energy += (s.energy + s.p) * vn * dwv_k;
         /* the pair's viscous force on i dotted with the pair's mean velocity:
          * antisymmetric viscous force, symmetric mean, so the viscous work
          * cancels in the sum over all particles */
-        const vec f_pair = vec_scale(dv, -dwv * pair_inv_r[slot]);
-        heat += vec_dot(f_pair, vec_scale(vec_add(v_i, v_j), R(0.5)));
+        lanes_vec f_pair, v_mean;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            f_pair.c[a] = dv.c[a] * (-(dwv * inv_r * keep));
+            v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
+        }
+        lane_heat += lanes_dot(f_pair, v_mean);
 #        endif
     }
+#        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
+    for (int k = lanes_end; k < count; ++k) {
+        const int slot = ROW_SLOT(i, k);
+        wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot, nbr_j[slot]));
+    }
+#        endif
+    real mass_flux = R(0);
+    vec curl = vec_zero();
+#        if SPH_HAS_COMPRESSIBLE
+    real energy_flux = R(0), heat = R(0);
+#        endif
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        mass_flux += LANE(lane_mass, l);
+        UNROLL for (int a = 0; a < NSPIN; ++a) curl.c[a] += LANE(lane_curl[a], l);
+#        if SPH_HAS_COMPRESSIBLE
+        energy_flux += LANE(lane_energy, l);
+        heat += LANE(lane_heat, l);
+#        endif
+    }
+    curl = vec_add(curl, wall_curl);
     const real w_i = vol[i];
     mass_rate[i] = R(-2) * w_i * mass_flux;
     UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl.c[a];
@@ -426,8 +691,7 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
  * the two stages' (the force the step applies), the vorticity that of U1.
  * Fixed-state and wall particles keep their state. */
 KERNEL void eulerian_rates(
-    ITEM_PARAM const int n, const int cap, const int stage, CONSTANT sph_params *prm,
-    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+    ITEM_PARAM const int n, const int stage, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
     GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
     GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
     GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
@@ -436,7 +700,8 @@ KERNEL void eulerian_rates(
     GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS WALL_FORCE_PARAM) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    const int stride = n * cap;
+    ROW_WALLS_UNUSED;
+    const int stride = ROWS_STRIDE;
     const real mu = prm->materials[0].viscosity;
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
@@ -448,9 +713,9 @@ KERNEL void eulerian_rates(
     real energy_flux = R(0), heat = R(0);
 #        endif
     /* a wall particle's rates are never used */
-    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : nbr_count[i];
+    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
     for (int k = 0; k < count; ++k) {
-        const int slot = NBR_AT(i, k);
+        const int slot = ROW_SLOT(i, k);
         const int j = nbr_j[slot];
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
@@ -459,12 +724,11 @@ KERNEL void eulerian_rates(
         const vec g = vec_scale(e, dwv);
 #        if SPH_FLUID_KINDS
         if (KIND_OF(j) == SPH_PARTICLE_WALL) {
-            /* as eulerian_momentum_rate's wall pairs; no mass or energy
+            /* as the two-stage passes' wall pairs; no mass or energy
              * crosses the wall */
-            const fluid_state s = wall_interface(solver, q_i, vec_load(normal, n, j));
-            wall_flux = vec_axpy(wall_flux, dwv, fluid_momentum_flux(s, e));
-            wall_visc = vec_axpy(wall_visc, visc_w, v_i);
-            curl = curl_add(curl, g, vec_scale(v_i, R(-1)));
+            const wall_pair w = WALL_PAIR_ARGS(slot, j);
+            momentum_wall_pair(solver, q_i, w, &wall_flux, &wall_visc);
+            curl = curl_of_wall_pair(curl, v_i, w);
             continue;
         }
 #        endif
@@ -575,21 +839,22 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, STEP_DT_
  * velocity is the free stream's on inflow faces and the neighbours' mean on
  * outflow faces; p by the EOS, m = rho w.  It reads interior particles only
  * and writes far-field ones only: race-free. */
-KERNEL void eulerian_far_field(ITEM_PARAM const int n, const int cap, CONSTANT sph_params *prm,
-                               GLOBAL const int *restrict nbr_count,
-                               GLOBAL const int *restrict nbr_j, GLOBAL const hreal *restrict pos,
-                               GLOBAL hreal *restrict rho, GLOBAL real *restrict vel,
-                               GLOBAL real *restrict mass, GLOBAL const real *restrict vol,
+KERNEL void eulerian_far_field(ITEM_PARAM const int n, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
+                               GLOBAL const hreal *restrict pos, GLOBAL hreal *restrict rho,
+                               GLOBAL real *restrict vel, GLOBAL real *restrict mass,
+                               GLOBAL const real *restrict vol,
                                GLOBAL real *restrict pressure KIND_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
+    ROW_WALLS_UNUSED;
     const int kind_i = KIND_OF(i);
     if (kind_i != SPH_PARTICLE_INFLOW && kind_i != SPH_PARTICLE_OUTFLOW) return;
     real weight = R(0), rho_sum = R(0);
     vec v_sum = vec_zero();
     int count = 0;
-    for (int k = 0; k < nbr_count[i]; ++k) {
-        const int j = nbr_j[NBR_AT(i, k)];
+    const int count_i = ROW_COUNT(i);
+    for (int k = 0; k < count_i; ++k) {
+        const int j = nbr_j[ROW_SLOT(i, k)];
         if (KIND_OF(j) != SPH_PARTICLE_FLUID) continue;
         const vec d = periodic_image(prm, hvec_diff(pos, n, i, j));
         weight += kernel_w(prm, sqrt(vec_dot(d, d))) * vol[j];

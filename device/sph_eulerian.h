@@ -104,6 +104,68 @@ FN fluid_state riemann_linearised(const fluid_side l, const fluid_side r, const 
     return s;
 }
 
+/* Lanes of pairs of one particle (SPH_PAIR_LANES, sph_prelude.h; one lane,
+ * the plain scalar, in OpenCL): a vector per lane set, the side and the
+ * interface state of each lane. */
+typedef struct {
+    lanes c[SPH_DIM];
+} lanes_vec;
+typedef struct {
+    lanes rho, p, u; /* u = -e_ij . v */
+    lanes_vec v;
+} fluid_side_lanes;
+typedef struct {
+    lanes rho, p;
+    lanes_vec v;
+    lanes energy; /* compressible, else 0 */
+} fluid_state_lanes;
+
+FN lanes lanes_dot(const lanes_vec x, const lanes_vec y) {
+    lanes s = lanes_zero();
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) s += x.c[a] * y.c[a];
+    return s;
+}
+
+/* curl_add on lanes: curl[] += g x dv (NSPIN components used). */
+FN void curl_add_lanes(lanes *curl, const lanes_vec g, const lanes_vec dv) {
+#if SPH_DIM == 1
+    (void)curl;
+    (void)g;
+    (void)dv;
+#elif SPH_DIM == 2
+    curl[0] += g.c[0] * dv.c[1] - g.c[1] * dv.c[0];
+#else
+    curl[0] += g.c[1] * dv.c[2] - g.c[2] * dv.c[1];
+    curl[1] += g.c[2] * dv.c[0] - g.c[0] * dv.c[2];
+    curl[2] += g.c[0] * dv.c[1] - g.c[1] * dv.c[0];
+#endif
+}
+
+/* riemann_linearised on lanes: the same operations in the same order, so
+ * each lane's state is the one-pair solver's bit for bit. */
+FN fluid_state_lanes riemann_linearised_lanes(const fluid_side_lanes l, const fluid_side_lanes r,
+                                              const lanes_vec e_ij, const linearised_solver k) {
+    const lanes du = l.u - r.u;
+    /* beta: eta/c0 > 0, so eta/c0 du > 0 exactly where du > 0 */
+    const lanes beta = k.eta_over_c0 > R(0)
+                           ? lanes_at_most_one(lanes_positive_part(k.eta_over_c0 * du))
+                           : lanes_broadcast(R(1));
+    fluid_state_lanes s;
+    s.rho = R(0.5) * (l.rho + r.rho);
+    s.p = R(0.5) * (l.p + r.p) + k.half_z * du * beta;
+    const lanes w = -(l.p - r.p) * beta * beta * k.inv_two_z;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) s.v.c[a] =
+        (l.v.c[a] + r.v.c[a]) * R(0.5) + w * e_ij.c[a];
+    s.energy = lanes_zero();
+    return s;
+}
+
+/* fluid_momentum_flux on lanes, component a. */
+FN lanes fluid_momentum_flux_lanes(const fluid_state_lanes s, const lanes vn, const lanes_vec e,
+                                   const int a) {
+    return s.v.c[a] * (s.rho * vn) + s.p * e.c[a];
+}
+
 /* HLLC with the dissipation limiter, eqs. 15-16 and 19-20, in the physical
  * form (eulerian-sph-reference.md §2; documented in docs/fluids.md):
  *  - wave speeds S_l = u_l - c_l, S_r = u_r + c_r (eq. 15);

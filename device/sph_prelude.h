@@ -68,7 +68,8 @@ typedef float real;
  * them back (store forwarding), which made acoustic_velocity_terms 4x
  * slower per particle than the same source compiled by GCC or clang for the
  * native backend (docs/benchmarks.md, "pocl"). */
-#    define UNROLL _Pragma("unroll")
+#    define UNROLL       _Pragma("unroll")
+#    define UNROLL_LANES UNROLL
 /* A per-item kernel is an OpenCL kernel here and a plain function called in
  * an OpenMP loop on the CPU.  ITEM_PARAM/ITEM_ID give it its item index. */
 #    define KERNEL __kernel
@@ -130,6 +131,16 @@ typedef float real;
 /* GCC and clang unroll the component loops themselves (see the OpenCL
  * branch) */
 #    define UNROLL
+/* ... but not a pair loop's lanes (SPH_PAIR_LANES trips, each gathering a
+ * neighbour): rolled, the gathered scalars went to the stack and were read
+ * back as vectors, stalling on store forwarding (eulerian_step.cl) */
+#    if defined(__clang__)
+#        define UNROLL_LANES _Pragma("unroll")
+#    elif defined(__GNUC__)
+#        define UNROLL_LANES _Pragma("GCC unroll 16")
+#    else
+#        define UNROLL_LANES
+#    endif
 #    define KERNEL           static inline
 #    define ITEM_PARAM       const int item_,
 #    define ITEM_ID          item_
@@ -286,6 +297,49 @@ FN lanes lanes_zero(void) {
     UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) LANE(z, l) = R(0);
     return z;
 }
+/* Lanes from SPH_PAIR_LANES scalars x[0], x[1], ...: a vector built in
+ * registers (writing lanes one by one into a vector in memory and reading
+ * it back stalls on store forwarding, which cost more than the lanes saved). */
+#if SPH_PAIR_LANES == 1
+#    define LANES_FROM(x) ((x)[0])
+#elif SPH_PAIR_LANES == 2
+#    define LANES_FROM(x) ((lanes){(x)[0], (x)[1]})
+#elif SPH_PAIR_LANES == 4
+#    define LANES_FROM(x) ((lanes){(x)[0], (x)[1], (x)[2], (x)[3]})
+#elif SPH_PAIR_LANES == 8
+#    define LANES_FROM(x) ((lanes){(x)[0], (x)[1], (x)[2], (x)[3], (x)[4], (x)[5], (x)[6], (x)[7]})
+#endif
+FN lanes lanes_broadcast(const real x) {
+    lanes z;
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) LANE(z, l) = x;
+    return z;
+}
+/* max(x, 0) and min(x, 1) lane by lane without branches, as the scalar
+ * comparisons x > 0 ? x : 0 and at_most_one (sph_riemann.h) give them, NaN
+ * included (0 and 1): on the CPU by the comparison's lane mask (all bits
+ * set where true), since C has no ?: on vectors. */
+#if SPH_PAIR_LANES > 1
+#    if SPH_DOUBLE
+typedef long long lanes_bits __attribute__((vector_size(SPH_PAIR_LANES * sizeof(real))));
+#    else
+typedef int lanes_bits __attribute__((vector_size(SPH_PAIR_LANES * sizeof(real))));
+#    endif
+FN lanes lanes_positive_part(const lanes x) {
+    return (lanes)((lanes_bits)x & (x > lanes_zero()));
+}
+FN lanes lanes_at_most_one(const lanes x) {
+    const lanes one = lanes_broadcast(R(1));
+    const lanes_bits below = x < one;
+    return (lanes)(((lanes_bits)x & below) | ((lanes_bits)one & ~below));
+}
+#else
+FN lanes lanes_positive_part(const lanes x) {
+    return x > R(0) ? x : R(0);
+}
+FN lanes lanes_at_most_one(const lanes x) {
+    return x < R(1) ? x : R(1);
+}
+#endif
 
 /* Pair slot (i, k) in the frozen neighbour arrays (see SPH_NBR_ROW_MAJOR). */
 #if SPH_NBR_ROW_MAJOR

@@ -99,6 +99,10 @@ static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *
     free(c->b.pair_inv_r);
     free(c->b.pair_w);
     c->b.pair_w = NULL;
+    free(c->b.row_start); /* padded rows from here on (pack_pair_rows) */
+    free(c->b.row_j);
+    free(c->b.row_walls);
+    c->b.row_start = c->b.row_j = c->b.row_walls = NULL;
     c->b.cap = cap;
     c->b.nbr_j = malloc(slots * sizeof(int32_t));
     c->b.pair_e = malloc(slots * (size_t)be->features.dim * c->real_size);
@@ -201,6 +205,112 @@ static void permute_fields(sph_backend *be, cpu_impl *c) {
     }
 }
 
+/* Each packed row's wall pairs moved after its fluid pairs (pack_pair_rows),
+ * their count in row_walls. */
+static sph_status partition_wall_pairs(sph_backend *be, cpu_impl *c, const uint8_t *kind,
+                                       sph_error *err) {
+    const size_t n = (size_t)be->n, esize = c->real_size, total = (size_t)c->b.row_start[n];
+    const size_t dim = (size_t)be->features.dim;
+    int32_t *order = malloc((size_t)c->b.cap * sizeof(int32_t));
+    char *scratch = malloc((size_t)c->b.cap * (esize > sizeof(int32_t) ? esize : sizeof(int32_t)));
+    if (!order || !scratch) {
+        free(order);
+        free(scratch);
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    }
+    /* the arrays of one slot each: j, then the geometry's components */
+    char *arrays[3 + 3];
+    size_t sizes[3 + 3], narrays = 0;
+    arrays[narrays] = (char *)c->b.row_j, sizes[narrays++] = sizeof(int32_t);
+    for (size_t a = 0; a < dim; ++a)
+        arrays[narrays] = (char *)c->b.pair_e + a * total * esize, sizes[narrays++] = esize;
+    arrays[narrays] = c->b.pair_dwv, sizes[narrays++] = esize;
+    arrays[narrays] = c->b.pair_inv_r, sizes[narrays++] = esize;
+    for (size_t i = 0; i < n; ++i) {
+        const size_t first = (size_t)c->b.row_start[i];
+        const int count = c->b.row_start[i + 1] - c->b.row_start[i];
+        int fluid = 0, walls = 0;
+        for (int k = 0; k < count; ++k)
+            if (kind[c->b.row_j[first + (size_t)k]] != SPH_PARTICLE_WALL) order[fluid++] = k;
+        for (int k = 0; k < count; ++k)
+            if (kind[c->b.row_j[first + (size_t)k]] == SPH_PARTICLE_WALL)
+                order[fluid + walls++] = k;
+        c->b.row_walls[i] = walls;
+        if (walls == 0) continue;
+        for (size_t g = 0; g < narrays; ++g) {
+            char *row = arrays[g] + first * sizes[g];
+            for (int k = 0; k < count; ++k)
+                memcpy(scratch + (size_t)k * sizes[g], row + (size_t)order[k] * sizes[g], sizes[g]);
+            memcpy(row, scratch, (size_t)count * sizes[g]);
+        }
+    }
+    free(order);
+    free(scratch);
+    return SPH_OK;
+}
+
+/* Fluids: the rebuild's padded rows packed (eulerian_step.cl, "the frozen
+ * pair rows"), once after the build and before fluid_setup.  row_start is
+ * the prefix sum of the counts, row_j a packed copy of nbr_j (which keeps
+ * its padded rows for the monitor), and the pair geometry is packed in
+ * place: each slot moves to an index no larger than its own (row_start[i]
+ * <= i cap, a component's base a total <= a n cap), so an ascending copy
+ * never overwrites a slot it has yet to read; then the arrays shrink. */
+static sph_status pack_pair_rows(sph_backend *be, cpu_impl *c, sph_error *err) {
+    const size_t n = (size_t)be->n, cap = (size_t)c->b.cap, esize = c->real_size;
+    sph_status st = SPH_OK;
+    free(c->b.row_start);
+    free(c->b.row_j);
+    free(c->b.row_walls);
+    c->b.row_j = c->b.row_walls = NULL;
+    c->b.row_start = malloc((n + 1) * sizeof(int32_t));
+    if (!c->b.row_start) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    size_t total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        c->b.row_start[i] = (int32_t)total;
+        total += (size_t)c->b.nbr_count[i];
+    }
+    if (total > (size_t)INT32_MAX / 3)
+        return sph_fail(err, SPH_ERR_RUNTIME, "%zu particle pairs exceed the 32-bit pair index",
+                        total);
+    c->b.row_start[n] = (int32_t)total;
+    c->b.row_j = malloc((total ? total : 1) * sizeof(int32_t));
+    if (!c->b.row_j) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    for (size_t i = 0; i < n; ++i)
+        memcpy(c->b.row_j + c->b.row_start[i], c->b.nbr_j + i * cap,
+               (size_t)c->b.nbr_count[i] * sizeof(int32_t));
+
+    struct {
+        void **array;
+        size_t components;
+    } geometry[] = {
+        {&c->b.pair_e, (size_t)be->features.dim}, {&c->b.pair_dwv, 1}, {&c->b.pair_inv_r, 1}};
+    for (size_t g = 0; g < sizeof geometry / sizeof geometry[0]; ++g) {
+        char *base = *geometry[g].array;
+        for (size_t a = 0; a < geometry[g].components; ++a)
+            for (size_t i = 0; i < n; ++i)
+                memmove(base + (a * total + (size_t)c->b.row_start[i]) * esize,
+                        base + (a * n * cap + i * cap) * esize, (size_t)c->b.nbr_count[i] * esize);
+        void *shrunk = realloc(base, (total ? total : 1) * geometry[g].components * esize);
+        if (shrunk) *geometry[g].array = shrunk;
+    }
+    /* the wall pairs last in each row (a stable partition: slot order kept
+     * within both parts), the pair geometry moved with them */
+    const uint8_t *kind = c->b.field[FIELD_KIND];
+    bool walls = false;
+    for (size_t i = 0; kind && i < n && !walls; ++i) walls = kind[i] == SPH_PARTICLE_WALL;
+    if (walls) {
+        c->b.row_walls = malloc(n * sizeof(int32_t));
+        if (!c->b.row_walls) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+        if ((st = partition_wall_pairs(be, c, kind, err))) return st;
+    }
+    sph_backend_record_buffer(be, PAIRS_RECORD,
+                              n * cap * sizeof(int32_t) + (n + 1) * sizeof(int32_t) +
+                                  (walls ? n * sizeof(int32_t) : 0) +
+                                  total * pair_slot_bytes(&be->features, esize));
+    return st;
+}
+
 /* Phase timing when profiling (wall clock of the calling thread). */
 static double phase_start(const sph_backend *be) {
     return be->profiling ? omp_get_wtime() : 0.0;
@@ -241,6 +351,8 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     sort_by_cell(c, grid.ncells);
     permute_fields(be, c);
     phase_end(be, "cell sort and permutation", t0);
+    /* packed rows (a fluid's) go back to the padded layout the build writes */
+    if (c->b.row_start && (st = alloc_pairs(be, c, c->b.cap, err))) return st;
     for (;;) {
         t0 = phase_start(be);
         const int needed = c->k->build_neighbours(&c->b, &grid, be->geometry_shift);
@@ -251,6 +363,7 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
     }
     if (c->k->fluid_setup) {
         t0 = phase_start(be);
+        if ((st = pack_pair_rows(be, c, err))) return st;
         c->k->fluid_setup(&c->b);
         phase_end(be, "fluid setup", t0);
     }
@@ -355,6 +468,9 @@ static void cpu_destroy(sph_backend *be) {
         }
         free(c->b.nbr_count);
         free(c->b.nbr_j);
+        free(c->b.row_start);
+        free(c->b.row_j);
+        free(c->b.row_walls);
         free(c->b.pair_e);
         free(c->b.pair_dwv);
         free(c->b.pair_inv_r);

@@ -18,6 +18,13 @@ typedef struct {
     void *field[FIELD_COUNT]; /* NULL when the field is not present */
     int32_t *nbr_count, *nbr_j;
     void *pair_e, *pair_dwv, *pair_inv_r;
+    /* fluids (eulerian_step.cl): the rows packed after the rebuild, particle
+     * i's pairs at row_start[i] ... row_start[i + 1] - 1 of row_j and of
+     * pair_e, pair_dwv, pair_inv_r, which then hold the packed rows;
+     * nbr_count and nbr_j keep the padded ones (the monitor).  A row's wall
+     * pairs come last, row_walls[i] of them (NULL without walls).  NULL
+     * before */
+    int32_t *row_start, *row_j, *row_walls;
     void *pair_w; /* TLSPH only: reference hourglass weights (else NULL) */
     uint64_t *keys;
     int32_t *cell_start, *cell_end;

@@ -139,6 +139,8 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 #        define ENERGY_RATE_FIELD_ARGS
 #        define SOUND_FIELD_ARG
 #    endif
+/* the packed pair rows (eulerian_step.cl, host/backend_cpu.c) */
+#    define FLUID_ROWS(b) (b)->row_start, (b)->row_walls, (b)->row_j
 /* walls and the far field (NULL buffers when the scene has neither) */
 #    define KIND_FIELD_ARGS , F_U8(b, FIELD_KIND), F_REAL(b, FIELD_NORMAL)
 
@@ -146,20 +148,20 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
  * caller's parallel region; nothing without far-field particles. */
 static void far_field_pass(cpu_buffers *b) {
     if (!b->field[FIELD_KIND] || ((const sph_params *)b->prm)->far_field_density <= 0) return;
-    const int n = b->n, cap = b->cap;
+    const int n = b->n;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
 #    pragma omp for schedule(static)
     for (int i = 0; i < n; ++i)
-        eulerian_far_field(i, n, cap, prm, b->nbr_count, b->nbr_j, F_HREAL(b, FIELD_POS),
-                           F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
-                           F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE) KIND_FIELD_ARGS);
+        eulerian_far_field(i, n, prm, FLUID_ROWS(b), F_HREAL(b, FIELD_POS), F_HREAL(b, FIELD_RHO),
+                           F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                           F_REAL(b, FIELD_PRESSURE) KIND_FIELD_ARGS);
 }
 
 /* Once after the rebuild of a fluid run (eulerian_step.cl): the pressure
  * (WC) or total energy and sound speed (compressible) of the initial state,
  * the corrected pair gradients of eq. 18, and the far field's first blend. */
 static void fluid_setup_impl(cpu_buffers *b) {
-    const int n = b->n, cap = b->cap;
+    const int n = b->n;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
 #    pragma omp parallel if (b->parallel)
     {
@@ -170,7 +172,7 @@ static void fluid_setup_impl(cpu_buffers *b) {
                              F_REAL(b, FIELD_PRESSURE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG);
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
-            eulerian_correct_pairs(i, n, cap, prm, b->nbr_count, b->nbr_j, F_REAL(b, FIELD_BMAT),
+            eulerian_correct_pairs(i, n, prm, FLUID_ROWS(b), F_REAL(b, FIELD_BMAT),
                                    (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r);
         far_field_pass(b);
     }
@@ -182,7 +184,7 @@ static void fluid_setup_impl(cpu_buffers *b) {
  * signal speed over fixed blocks of SPH_WG particles. */
 static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     const real dt = (real)dt_in;
-    const int n = b->n, cap = b->cap;
+    const int n = b->n;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
     real *sums = (real *)b->substep_sums;
     real *partials = (real *)b->partials;
@@ -195,12 +197,11 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
             for (int stage = 0; stage < 2; ++stage) {
 #    pragma omp for schedule(static)
                 for (int i = 0; i < n; ++i)
-                    eulerian_rates(i, n, cap, stage, prm, b->nbr_count, b->nbr_j,
-                                   (const real *)b->pair_e, (const real *)b->pair_dwv,
-                                   (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
-                                   F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL),
-                                   F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_MASS_RATE),
-                                   F_REAL(b, FIELD_MOMENTUM_RATE),
+                    eulerian_rates(i, n, stage, prm, FLUID_ROWS(b), (const real *)b->pair_e,
+                                   (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
+                                   F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
+                                   F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
+                                   F_REAL(b, FIELD_MASS_RATE), F_REAL(b, FIELD_MOMENTUM_RATE),
                                    F_REAL(b, FIELD_VORTICITY)
                                        ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS,
                                    F_REAL(b, FIELD_WALL_FORCE));
@@ -217,7 +218,7 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
 #    pragma omp for schedule(static)
             for (int i = 0; i < n; ++i)
                 eulerian_momentum_rate(
-                    i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                    i, n, dt, prm, FLUID_ROWS(b), (const real *)b->pair_e,
                     (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
                     F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
                     F_REAL(b, FIELD_PRESSURE),
@@ -226,7 +227,7 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
 #    pragma omp for schedule(static)
             for (int i = 0; i < n; ++i)
                 eulerian_mass_energy_rate(
-                    i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                    i, n, dt, prm, FLUID_ROWS(b), (const real *)b->pair_e,
                     (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
                     F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
                     F_REAL(b, FIELD_MASS_RATE),
