@@ -297,6 +297,26 @@ FN_HOT void pair_lanes_geometry(GLOBAL const real *restrict pair_e,
         const int slot = ROW_SLOT(i, live_ ? k_ : 0);                                              \
         const int j = live_ ? nbr_j[slot] : i
 #    define LANE_PAIR_EMPTY(gather_, l) fluid_point_gather_set(&(gather_), (l), q_i, R(0))
+/* The gather gq_ of the lanes' fluid neighbours, their velocity from the
+ * field vel_ (v^n or v'); where a row's wall pairs are not last (OpenCL) a
+ * wall pair gets WALL_PAIR(slot, j) and an empty lane. */
+#    if SPH_FLUID_KINDS && !WALL_PAIRS_LAST
+#        define LANE_WALL_PAIR(gq_, l, WALL_PAIR)                                                  \
+            if (live_ && KIND_OF(j) == SPH_PARTICLE_WALL) {                                        \
+                WALL_PAIR(slot, j);                                                                \
+                LANE_PAIR_EMPTY(gq_, l);                                                           \
+                continue;                                                                          \
+            }
+#    else
+#        define LANE_WALL_PAIR(gq_, l, WALL_PAIR)
+#    endif
+#    define GATHER_FLUID_LANES(gq_, vel_, WALL_PAIR)                                               \
+        fluid_point_gather gq_;                                                                    \
+        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {                                    \
+            LANE_PAIR_BEGIN(l);                                                                    \
+            LANE_WALL_PAIR(gq_, l, WALL_PAIR)                                                      \
+            fluid_point_gather_set(&(gq_), l, FLUID_POINT(j, vec_load(vel_, n, j)), R(1));         \
+        }
 
 /* The interface states of lanes of pairs (i, j): the linearised solver on
  * the lanes, HLLC (its branches) lane by lane. */
@@ -478,18 +498,9 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
         lanes_vec e;
         lanes dwv, inv_r;
         PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
-        fluid_point_gather gq;
-        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-            LANE_PAIR_BEGIN(l);
-#        if SPH_FLUID_KINDS && !WALL_PAIRS_LAST
-            if (live_ && KIND_OF(j) == SPH_PARTICLE_WALL) {
-                momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, j), &wall_flux, &wall_visc);
-                LANE_PAIR_EMPTY(gq, l);
-                continue;
-            }
-#        endif
-            fluid_point_gather_set(&gq, l, FLUID_POINT(j, vec_load(vel, n, j)), R(1));
-        }
+#        define MOMENTUM_WALL_PAIR(slot_, j_)                                                      \
+            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot_, j_), &wall_flux, &wall_visc)
+        GATHER_FLUID_LANES(gq, vel, MOMENTUM_WALL_PAIR);
         lanes keep;
         const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
@@ -574,18 +585,9 @@ KERNEL void eulerian_mass_energy_rate(
 #        else
         PAIR_LANES_GEOMETRY(e, dwv, (lanes *)0);
 #        endif
-        fluid_point_gather gq;
-        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-            LANE_PAIR_BEGIN(l);
-#        if SPH_FLUID_KINDS && !WALL_PAIRS_LAST
-            if (live_ && KIND_OF(j) == SPH_PARTICLE_WALL) {
-                wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot, j));
-                LANE_PAIR_EMPTY(gq, l);
-                continue;
-            }
-#        endif
-            fluid_point_gather_set(&gq, l, FLUID_POINT(j, vec_load(vel_stage, n, j)), R(1));
-        }
+#        define CURL_WALL_PAIR(slot_, j_)                                                          \
+            wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot_, j_))
+        GATHER_FLUID_LANES(gq, vel_stage, CURL_WALL_PAIR);
         lanes keep;
         const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
         const lanes dwv_k = dwv * keep;

@@ -46,8 +46,8 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT sph_pa
 #if SPH_HAS_EULERIAN
     /* the particles of an Eulerian run do not move: the pair measures
      * (clustering, zigzag) are the solids' and the host does not check them
-     * for fluids (host/solver.c); skipped, they were 6 % of the cylinder's
-     * run (an output every 87 steps) */
+     * for fluids (host/solver.c): skipped (a two-pass loop over every
+     * particle's pairs at each output) */
     (void)cap;
     (void)nbr_count;
     (void)nbr_j;
