@@ -702,52 +702,83 @@ KERNEL void eulerian_rates(
     GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS WALL_FORCE_PARAM) {
     const int i = ITEM_ID;
     if (i >= n) return;
-    ROW_WALLS_UNUSED;
     const int stride = ROWS_STRIDE;
     const real mu = prm->materials[0].viscosity;
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
+    /* the fluid pairs' sums in lanes, as the two-stage passes' */
+    lanes lane_flux[SPH_DIM], lane_visc[SPH_DIM], lane_mass = lanes_zero(), lane_curl[3];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_flux[a] = lane_visc[a] = lanes_zero();
+    UNROLL for (int a = 0; a < 3; ++a) lane_curl[a] = lanes_zero();
+#        if SPH_HAS_COMPRESSIBLE
+    lanes lane_energy = lanes_zero(), lane_heat = lanes_zero();
+#        endif
+    vec wall_flux = vec_zero(), wall_visc = vec_zero(), wall_curl = vec_zero();
+    /* a wall particle's rates are never used */
+    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
+    const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
+    /* a wall pair: as the two-stage passes' (no mass or energy crosses it) */
+#        define RATES_WALL_PAIR(slot_, j_)                                                         \
+            do {                                                                                   \
+                const wall_pair w_ = WALL_PAIR_ARGS(slot_, j_);                                    \
+                momentum_wall_pair(solver, q_i, w_, &wall_flux, &wall_visc);                       \
+                wall_curl = curl_of_wall_pair(wall_curl, v_i, w_);                                 \
+            } while (0)
+    for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
+        lanes_vec e;
+        lanes dwv, inv_r;
+        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
+        GATHER_FLUID_LANES(gq, vel, RATES_WALL_PAIR);
+        lanes keep;
+        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
+        const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
+        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        const lanes vn = lanes_dot(s.v, e);
+        lanes_vec g, dv;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            g.c[a] = e.c[a] * dwv_k;
+            dv.c[a] = q.v.c[a] - v_i.c[a];
+            lane_flux[a] += dwv_k * fluid_momentum_flux_lanes(s, vn, e, a);
+            lane_visc[a] += -visc_w * dv.c[a];
+        }
+        lane_mass += s.rho * vn * dwv_k;
+        curl_add_lanes(lane_curl, g, dv);
+#        if SPH_HAS_COMPRESSIBLE
+        lane_energy += (s.energy + s.p) * vn * dwv_k;
+        /* the viscous work, pairwise (eulerian_mass_energy_rate) */
+        lanes_vec f_pair, v_mean;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            f_pair.c[a] = dv.c[a] * (-visc_w);
+            v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
+        }
+        lane_heat += lanes_dot(f_pair, v_mean);
+#        endif
+    }
+#        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
+    for (int k = lanes_end; k < count; ++k) {
+        const int slot = ROW_SLOT(i, k);
+        RATES_WALL_PAIR(slot, nbr_j[slot]);
+    }
+#        endif
     vec flux = vec_zero(), visc = vec_zero(), curl = vec_zero();
-    vec wall_flux = vec_zero(), wall_visc = vec_zero();
     real mass_flux = R(0);
 #        if SPH_HAS_COMPRESSIBLE
     real energy_flux = R(0), heat = R(0);
 #        endif
-    /* a wall particle's rates are never used */
-    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
-    for (int k = 0; k < count; ++k) {
-        const int slot = ROW_SLOT(i, k);
-        const int j = nbr_j[slot];
-        vec e;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
-        const real dwv = pair_dwv[slot];
-        const real visc_w = dwv * pair_inv_r[slot];
-        const vec g = vec_scale(e, dwv);
-#        if SPH_FLUID_KINDS
-        if (KIND_OF(j) == SPH_PARTICLE_WALL) {
-            /* as the two-stage passes' wall pairs; no mass or energy
-             * crosses the wall */
-            const wall_pair w = WALL_PAIR_ARGS(slot, j);
-            momentum_wall_pair(solver, q_i, w, &wall_flux, &wall_visc);
-            curl = curl_of_wall_pair(curl, v_i, w);
-            continue;
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            flux.c[a] += LANE(lane_flux[a], l);
+            visc.c[a] += LANE(lane_visc[a], l);
         }
-#        endif
-        const vec v_j = vec_load(vel, n, j);
-        const fluid_state s = pair_interface(solver, q_i, FLUID_POINT(j, v_j), e);
-        const vec dv = vec_sub(v_j, v_i);
-        const real vn = vec_dot(s.v, e);
-        flux = vec_axpy(flux, dwv, fluid_momentum_flux(s, e));
-        visc = vec_axpy(visc, -visc_w, dv);
-        mass_flux += s.rho * vn * dwv;
-        curl = curl_add(curl, g, dv);
+        mass_flux += LANE(lane_mass, l);
+        UNROLL for (int a = 0; a < NSPIN; ++a) curl.c[a] += LANE(lane_curl[a], l);
 #        if SPH_HAS_COMPRESSIBLE
-        energy_flux += (s.energy + s.p) * vn * dwv;
-        /* the viscous work, pairwise (eulerian_mass_energy_rate) */
-        heat += vec_dot(vec_scale(dv, -visc_w), vec_scale(vec_add(v_i, v_j), R(0.5)));
+        energy_flux += LANE(lane_energy, l);
+        heat += LANE(lane_heat, l);
 #        endif
     }
+    curl = vec_add(curl, wall_curl);
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
