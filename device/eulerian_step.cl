@@ -361,6 +361,76 @@ FN_HOT fluid_state_lanes pair_interface_lanes(const fluid_solver solver, const f
     return s;
 }
 
+/* The momentum rate's sums over the fluid pairs, in lanes (the first
+ * two-stage pass and SSP-RK2's rates): the Riemann momentum flux times
+ * dW w_j, and the viscous sum visc_w (v_i - v_j). */
+FN_HOT void momentum_lanes_add(lanes *flux, lanes *visc, const fluid_state_lanes s, const lanes vn,
+                               const lanes_vec e, const lanes dwv, const lanes visc_w,
+                               const vec v_i, const lanes_vec v_j) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+        flux[a] += dwv * fluid_momentum_flux_lanes(s, vn, e, a);
+        visc[a] += visc_w * (v_i.c[a] - v_j.c[a]);
+    }
+}
+
+/* The mass and energy rates' sums over the fluid pairs, in lanes (the
+ * second two-stage pass and SSP-RK2's rates): the mass flux
+ * rho* (v* . e) dW w_j, the curl g x (v_j - v_i) (NSPIN components used)
+ * and, compressible, the energy flux (E* + p*)(v* . e) dW w_j and the
+ * viscous work, pairwise: the pair's viscous force on i, -visc_w (v_j - v_i),
+ * dotted with the pair's mean velocity (antisymmetric force, symmetric
+ * mean, so the work cancels in the sum over all particles). */
+typedef struct {
+    lanes mass, curl[3], energy, heat;
+} mass_energy_lanes;
+FN mass_energy_lanes mass_energy_lanes_zero(void) {
+    mass_energy_lanes z;
+    z.mass = z.energy = z.heat = lanes_zero();
+    UNROLL for (int a = 0; a < 3; ++a) z.curl[a] = lanes_zero();
+    return z;
+}
+FN_HOT void mass_energy_lanes_add(mass_energy_lanes *acc, const fluid_state_lanes s, const lanes vn,
+                                  const lanes_vec e, const lanes dwv, const lanes visc_w,
+                                  const vec v_i, const lanes_vec v_j) {
+    acc->mass += s.rho * vn * dwv;
+    lanes_vec g, dv;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+        g.c[a] = e.c[a] * dwv;
+        dv.c[a] = v_j.c[a] - v_i.c[a];
+    }
+    curl_add_lanes(acc->curl, g, dv);
+#    if SPH_HAS_COMPRESSIBLE
+    acc->energy += (s.energy + s.p) * vn * dwv;
+    lanes_vec f_pair, v_mean;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+        f_pair.c[a] = dv.c[a] * (-visc_w);
+        v_mean.c[a] = (v_i.c[a] + v_j.c[a]) * R(0.5);
+    }
+    acc->heat += lanes_dot(f_pair, v_mean);
+#    else
+    (void)visc_w;
+#    endif
+}
+/* The lanes' sums in lane order, the wall pairs' curl added last. */
+typedef struct {
+    real mass;
+    vec curl;
+    real energy, heat;
+} mass_energy_sums;
+FN mass_energy_sums mass_energy_lanes_sum(const mass_energy_lanes acc, const vec wall_curl) {
+    mass_energy_sums t;
+    t.mass = t.energy = t.heat = R(0);
+    t.curl = vec_zero();
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        t.mass += LANE(acc.mass, l);
+        UNROLL for (int a = 0; a < NSPIN; ++a) t.curl.c[a] += LANE(acc.curl[a], l);
+        t.energy += LANE(acc.energy, l);
+        t.heat += LANE(acc.heat, l);
+    }
+    t.curl = vec_add(t.curl, wall_curl);
+    return t;
+}
+
 #    if SPH_FLUID_KINDS
 /* One wall pair (i, j) of the two-stage passes, from its slot: its frozen
  * geometry and the wall particle's normal. */
@@ -505,11 +575,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
         const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
         const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
-        const lanes vn = lanes_dot(s.v, e);
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            lane_flux[a] += dwv_k * fluid_momentum_flux_lanes(s, vn, e, a);
-            lane_visc[a] += visc_w * (v_i.c[a] - q.v.c[a]);
-        }
+        momentum_lanes_add(lane_flux, lane_visc, s, lanes_dot(s.v, e), e, dwv_k, visc_w, v_i, q.v);
     }
 #        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
     for (int k = lanes_end; k < count; ++k) {
@@ -561,11 +627,8 @@ KERNEL void eulerian_mass_energy_rate(
     const vec v_i = vec_load(vel_stage, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
     /* the fluid pairs' sums in lanes (sph_prelude.h), the walls' curl apart */
-    lanes lane_mass = lanes_zero(), lane_curl[3];
-    UNROLL for (int a = 0; a < 3; ++a) lane_curl[a] = lanes_zero();
-#        if SPH_HAS_COMPRESSIBLE
-    lanes lane_energy = lanes_zero(), lane_heat = lanes_zero();
-#        else
+    mass_energy_lanes acc = mass_energy_lanes_zero();
+#        if !SPH_HAS_COMPRESSIBLE
     (void)pair_inv_r;
 #        endif
 #        if SPH_FLUID_KINDS
@@ -590,28 +653,13 @@ KERNEL void eulerian_mass_energy_rate(
         GATHER_FLUID_LANES(gq, vel_stage, CURL_WALL_PAIR);
         lanes keep;
         const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
-        const lanes dwv_k = dwv * keep;
         const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
-        const lanes vn = lanes_dot(s.v, e);
-        lane_mass += s.rho * vn * dwv_k;
-        lanes_vec g, dv;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            g.c[a] = e.c[a] * dwv_k;
-            dv.c[a] = q.v.c[a] - v_i.c[a];
-        }
-        curl_add_lanes(lane_curl, g, dv);
 #        if SPH_HAS_COMPRESSIBLE
-        lane_energy += (s.energy + s.p) * vn * dwv_k;
-        /* the pair's viscous force on i dotted with the pair's mean velocity:
-         * antisymmetric viscous force, symmetric mean, so the viscous work
-         * cancels in the sum over all particles */
-        lanes_vec f_pair, v_mean;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            f_pair.c[a] = dv.c[a] * (-(dwv * inv_r * keep));
-            v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
-        }
-        lane_heat += lanes_dot(f_pair, v_mean);
+        const lanes visc_w = dwv * inv_r * keep;
+#        else
+        const lanes visc_w = lanes_zero();
 #        endif
+        mass_energy_lanes_add(&acc, s, lanes_dot(s.v, e), e, dwv * keep, visc_w, v_i, q.v);
     }
 #        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
     for (int k = lanes_end; k < count; ++k) {
@@ -619,25 +667,12 @@ KERNEL void eulerian_mass_energy_rate(
         wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot, nbr_j[slot]));
     }
 #        endif
-    real mass_flux = R(0);
-    vec curl = vec_zero();
-#        if SPH_HAS_COMPRESSIBLE
-    real energy_flux = R(0), heat = R(0);
-#        endif
-    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-        mass_flux += LANE(lane_mass, l);
-        UNROLL for (int a = 0; a < NSPIN; ++a) curl.c[a] += LANE(lane_curl[a], l);
-#        if SPH_HAS_COMPRESSIBLE
-        energy_flux += LANE(lane_energy, l);
-        heat += LANE(lane_heat, l);
-#        endif
-    }
-    curl = vec_add(curl, wall_curl);
+    const mass_energy_sums t = mass_energy_lanes_sum(acc, wall_curl);
     const real w_i = vol[i];
-    mass_rate[i] = R(-2) * w_i * mass_flux;
-    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl.c[a];
+    mass_rate[i] = R(-2) * w_i * t.mass;
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = t.curl.c[a];
 #        if SPH_HAS_COMPRESSIBLE
-    energy_rate[i] = R(-2) * w_i * energy_flux + R(2) * prm->materials[0].viscosity * w_i * heat;
+    energy_rate[i] = R(-2) * w_i * t.energy + R(2) * prm->materials[0].viscosity * w_i * t.heat;
 #        endif
 }
 
@@ -708,12 +743,9 @@ KERNEL void eulerian_rates(
     const vec v_i = vec_load(vel, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
     /* the fluid pairs' sums in lanes, as the two-stage passes' */
-    lanes lane_flux[SPH_DIM], lane_visc[SPH_DIM], lane_mass = lanes_zero(), lane_curl[3];
+    lanes lane_flux[SPH_DIM], lane_visc[SPH_DIM];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_flux[a] = lane_visc[a] = lanes_zero();
-    UNROLL for (int a = 0; a < 3; ++a) lane_curl[a] = lanes_zero();
-#        if SPH_HAS_COMPRESSIBLE
-    lanes lane_energy = lanes_zero(), lane_heat = lanes_zero();
-#        endif
+    mass_energy_lanes acc = mass_energy_lanes_zero();
     vec wall_flux = vec_zero(), wall_visc = vec_zero(), wall_curl = vec_zero();
     /* a wall particle's rates are never used */
     const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
@@ -735,25 +767,8 @@ KERNEL void eulerian_rates(
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
         const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
         const lanes vn = lanes_dot(s.v, e);
-        lanes_vec g, dv;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            g.c[a] = e.c[a] * dwv_k;
-            dv.c[a] = q.v.c[a] - v_i.c[a];
-            lane_flux[a] += dwv_k * fluid_momentum_flux_lanes(s, vn, e, a);
-            lane_visc[a] += -visc_w * dv.c[a];
-        }
-        lane_mass += s.rho * vn * dwv_k;
-        curl_add_lanes(lane_curl, g, dv);
-#        if SPH_HAS_COMPRESSIBLE
-        lane_energy += (s.energy + s.p) * vn * dwv_k;
-        /* the viscous work, pairwise (eulerian_mass_energy_rate) */
-        lanes_vec f_pair, v_mean;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            f_pair.c[a] = dv.c[a] * (-visc_w);
-            v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
-        }
-        lane_heat += lanes_dot(f_pair, v_mean);
-#        endif
+        momentum_lanes_add(lane_flux, lane_visc, s, vn, e, dwv_k, visc_w, v_i, q.v);
+        mass_energy_lanes_add(&acc, s, vn, e, dwv_k, visc_w, v_i, q.v);
     }
 #        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
     for (int k = lanes_end; k < count; ++k) {
@@ -761,24 +776,12 @@ KERNEL void eulerian_rates(
         RATES_WALL_PAIR(slot, nbr_j[slot]);
     }
 #        endif
-    vec flux = vec_zero(), visc = vec_zero(), curl = vec_zero();
-    real mass_flux = R(0);
-#        if SPH_HAS_COMPRESSIBLE
-    real energy_flux = R(0), heat = R(0);
-#        endif
-    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            flux.c[a] += LANE(lane_flux[a], l);
-            visc.c[a] += LANE(lane_visc[a], l);
-        }
-        mass_flux += LANE(lane_mass, l);
-        UNROLL for (int a = 0; a < NSPIN; ++a) curl.c[a] += LANE(lane_curl[a], l);
-#        if SPH_HAS_COMPRESSIBLE
-        energy_flux += LANE(lane_energy, l);
-        heat += LANE(lane_heat, l);
-#        endif
+    vec flux = vec_zero(), visc = vec_zero();
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+        flux.c[a] += LANE(lane_flux[a], l);
+        visc.c[a] += LANE(lane_visc[a], l);
     }
-    curl = vec_add(curl, wall_curl);
+    const mass_energy_sums t = mass_energy_lanes_sum(acc, wall_curl);
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
@@ -799,10 +802,10 @@ KERNEL void eulerian_rates(
     (void)stage;
 #        endif
     vec_store(momentum_rate, n, i, force);
-    mass_rate[i] = R(-2) * w_i * mass_flux;
-    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl.c[a];
+    mass_rate[i] = R(-2) * w_i * t.mass;
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = t.curl.c[a];
 #        if SPH_HAS_COMPRESSIBLE
-    energy_rate[i] = R(-2) * w_i * energy_flux + R(2) * mu * w_i * heat;
+    energy_rate[i] = R(-2) * w_i * t.energy + R(2) * mu * w_i * t.heat;
 #        endif
 }
 
