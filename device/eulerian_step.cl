@@ -310,6 +310,17 @@ FN_HOT void pair_lanes_geometry(GLOBAL const real *restrict pair_e,
 #    else
 #        define LANE_WALL_PAIR(gq_, l, WALL_PAIR)
 #    endif
+/* A row's wall pairs after its lanes, where they come last (the native
+ * backend's packed rows), each by WALL_PAIR(slot, j). */
+#    if SPH_FLUID_KINDS && WALL_PAIRS_LAST
+#        define WALL_PAIRS_AFTER_LANES(WALL_PAIR)                                                  \
+            for (int k = lanes_end; k < count; ++k) {                                              \
+                const int slot = ROW_SLOT(i, k);                                                   \
+                WALL_PAIR(slot, nbr_j[slot]);                                                      \
+            }
+#    else
+#        define WALL_PAIRS_AFTER_LANES(WALL_PAIR)
+#    endif
 #    define GATHER_FLUID_LANES(gq_, vel_, WALL_PAIR)                                               \
         fluid_point_gather gq_;                                                                    \
         UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {                                    \
@@ -564,12 +575,12 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     const int count = IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
     /* the lanes' pairs: all, or the fluid pairs before the row's walls */
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
+#        define MOMENTUM_WALL_PAIR(slot_, j_)                                                      \
+            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot_, j_), &wall_flux, &wall_visc)
     for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
         lanes_vec e;
         lanes dwv, inv_r;
         PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
-#        define MOMENTUM_WALL_PAIR(slot_, j_)                                                      \
-            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot_, j_), &wall_flux, &wall_visc)
         GATHER_FLUID_LANES(gq, vel, MOMENTUM_WALL_PAIR);
         lanes keep;
         const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
@@ -577,12 +588,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
         const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
         momentum_lanes_add(lane_flux, lane_visc, s, lanes_dot(s.v, e), e, dwv_k, visc_w, v_i, q.v);
     }
-#        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
-    for (int k = lanes_end; k < count; ++k) {
-        const int slot = ROW_SLOT(i, k);
-        momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux, &wall_visc);
-    }
-#        endif
+    WALL_PAIRS_AFTER_LANES(MOMENTUM_WALL_PAIR)
     vec flux = vec_zero(), visc = vec_zero();
     UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         flux.c[a] += LANE(lane_flux[a], l);
@@ -639,6 +645,8 @@ KERNEL void eulerian_mass_energy_rate(
     const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
     /* the lanes' pairs: all, or the fluid pairs before the row's walls */
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
+#        define CURL_WALL_PAIR(slot_, j_)                                                          \
+            wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot_, j_))
     for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
         lanes_vec e;
         lanes dwv;
@@ -648,8 +656,6 @@ KERNEL void eulerian_mass_energy_rate(
 #        else
         PAIR_LANES_GEOMETRY(e, dwv, (lanes *)0);
 #        endif
-#        define CURL_WALL_PAIR(slot_, j_)                                                          \
-            wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot_, j_))
         GATHER_FLUID_LANES(gq, vel_stage, CURL_WALL_PAIR);
         lanes keep;
         const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
@@ -661,12 +667,7 @@ KERNEL void eulerian_mass_energy_rate(
 #        endif
         mass_energy_lanes_add(&acc, s, lanes_dot(s.v, e), e, dwv * keep, visc_w, v_i, q.v);
     }
-#        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
-    for (int k = lanes_end; k < count; ++k) {
-        const int slot = ROW_SLOT(i, k);
-        wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot, nbr_j[slot]));
-    }
-#        endif
+    WALL_PAIRS_AFTER_LANES(CURL_WALL_PAIR)
     const mass_energy_sums t = mass_energy_lanes_sum(acc, wall_curl);
     const real w_i = vol[i];
     mass_rate[i] = R(-2) * w_i * t.mass;
@@ -770,12 +771,7 @@ KERNEL void eulerian_rates(
         momentum_lanes_add(lane_flux, lane_visc, s, vn, e, dwv_k, visc_w, v_i, q.v);
         mass_energy_lanes_add(&acc, s, vn, e, dwv_k, visc_w, v_i, q.v);
     }
-#        if SPH_FLUID_KINDS && WALL_PAIRS_LAST
-    for (int k = lanes_end; k < count; ++k) {
-        const int slot = ROW_SLOT(i, k);
-        RATES_WALL_PAIR(slot, nbr_j[slot]);
-    }
-#        endif
+    WALL_PAIRS_AFTER_LANES(RATES_WALL_PAIR)
     vec flux = vec_zero(), visc = vec_zero();
     UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         flux.c[a] += LANE(lane_flux[a], l);

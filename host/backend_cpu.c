@@ -259,10 +259,8 @@ static sph_status partition_wall_pairs(sph_backend *be, cpu_impl *c, const uint8
 static sph_status pack_pair_rows(sph_backend *be, cpu_impl *c, sph_error *err) {
     const size_t n = (size_t)be->n, cap = (size_t)c->b.cap, esize = c->real_size;
     sph_status st = SPH_OK;
-    free(c->b.row_start);
-    free(c->b.row_j);
-    free(c->b.row_walls);
-    c->b.row_j = c->b.row_walls = NULL;
+    /* the rows are unpacked here: alloc_pairs, which the rebuild runs first
+     * when they were packed, freed them */
     c->b.row_start = malloc((n + 1) * sizeof(int32_t));
     if (!c->b.row_start) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     size_t total = 0;
