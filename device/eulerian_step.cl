@@ -33,7 +33,9 @@
  *   3. eulerian_update: m, (m v)^{n+1} = m^n v' and v = (m v) / m,
  *      rho = m / w, E w, p by the EOS (and the compressible sound speed).
  * Each pass reads only what the passes before wrote: race-free without
- * atomics, the same sums in the same order on every backend.
+ * atomics.  The native backend runs steps 1 and 2 with each fluid pair
+ * summed once ("the native backend's two-stage passes sum each fluid pair
+ * once", below): the same terms, summed in another order.
  */
 #ifndef EULERIAN_STEP_CL
 #define EULERIAN_STEP_CL
@@ -676,6 +678,235 @@ KERNEL void eulerian_mass_energy_rate(
     energy_rate[i] = R(-2) * w_i * t.energy + R(2) * prm->materials[0].viscosity * w_i * t.heat;
 #        endif
 }
+
+#        if !SPH_OPENCL
+/* The native backend's two-stage passes sum each fluid pair once.
+ *
+ * The gather passes above (OpenCL's) solve the Riemann problem of a pair
+ * (i, j) twice, once in each particle's row.  Its interface state is the
+ * same from both sides (the solvers are symmetric under swapping the sides
+ * and reversing e_ij), and every term of eq. 14 and eq. 13 is antisymmetric
+ * with the symmetric weight w_i w_j dW: the pair's share of particle j's
+ * rate is minus its share of particle i's.  So here the row of i holds its
+ * fluid pairs with j > i, padded with empty pairs (j = i, zero geometry)
+ * to whole lanes, then its wall pairs, then its far pairs (below;
+ * host/backend_cpu.c, build_once_rows); each is solved once, its terms are
+ * added to i's sums in lanes and subtracted from j's sums one by one.  The curl is not
+ * antisymmetric: j gets the pair's cross product times dW w_i where i gets it times dW w_j.
+ *
+ * Scattering into j races with the row of j on another thread.  The rows
+ * are cut into blocks of pair_block consecutive particles, at least as long
+ * as the largest j - i of a pair that does not cross a periodic axis; a
+ * pair whose j lies past the next block (one across a periodic axis, for
+ * instance) is a "far" pair, summed on one thread afterwards.  A block then
+ * writes to itself and the next block only, so the even blocks run in
+ * parallel, then the odd ones: every sum gets its terms in the same order
+ * whatever the number of threads (PAIRS_ONCE, host/backend_cpu_kernels.c).
+ * The sums of the gather passes come in another order, so the two backends
+ * agree to round-off, not bit for bit (tests/test_cross_check: 1e-10).
+ * Measured: docs/fluids.md, "Speed on the CPU". */
+
+/* The rows of pairs summed once (host/backend_cpu.c, build_once_rows), in
+ * the names of the packed rows so that ROW_SLOT and the lanes' loads serve
+ * both: row i's slots from row_start[i], its j in nbr_j. */
+#            define ONCE_ROWS_PARAMS                                                               \
+                GLOBAL const int *restrict row_start, GLOBAL const int *restrict nbr_j
+
+/* Stage 1 on row i's pairs k_begin <= k < k_end (fluid pairs with j > i),
+ * then, where walls, the row's wall pairs: the momentum rate F into
+ * force_sum (i's share and -its share for each j), the wall pairs' pressure
+ * and viscous parts into wall_force. */
+FN_HOT void
+eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k_end,
+                        const int walls_end, CONSTANT sph_params *prm, ONCE_ROWS_PARAMS,
+                        GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+                        GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+                        GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
+                        GLOBAL const real *restrict pressure,
+                        GLOBAL real *restrict force_sum ENERGY_PARAM SOUND_PARAM FIXED_PARAM
+                            KIND_PARAMS WALL_FORCE_PARAM) {
+    /* a wall particle's row holds no fluid pair it sums (build_once_rows) */
+    if (KIND_OF(i) == SPH_PARTICLE_WALL) return;
+    const int stride = ROWS_STRIDE;
+    const real mu = prm->materials[0].viscosity;
+    const fluid_solver solver = fluid_solver_make(prm);
+    const vec v_i = vec_load(vel, n, i);
+    const fluid_point q_i = FLUID_POINT(i, v_i);
+    const real w_i = vol[i];
+    lanes lane_force[SPH_DIM];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] = lanes_zero();
+    const int lanes_end = k_end;
+    for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
+        lanes_vec e;
+        lanes dwv, inv_r;
+        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
+        GATHER_FLUID_LANES(gq, vel, NO_WALL_PAIR);
+        lanes keep;
+        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
+        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        const lanes vn = lanes_dot(s.v, e);
+        /* -2 w_i dW w_j: F_i = -2 w_i sum_j [flux - mu (v_i - v_j) / r~] dW w_j */
+        const lanes weight = R(-2) * w_i * dwv * keep;
+        lanes f[SPH_DIM];
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            f[a] = weight *
+                   (fluid_momentum_flux_lanes(s, vn, e, a) - mu * inv_r * (v_i.c[a] - q.v.c[a]));
+            lane_force[a] += f[a];
+        }
+        const int live = lanes_end - k0 < SPH_PAIR_LANES ? lanes_end - k0 : SPH_PAIR_LANES;
+        for (int l = 0; l < live; ++l) {
+            const int j = nbr_j[ROW_SLOT(i, k0 + l)];
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + j] -= LANE(f[a], l);
+        }
+    }
+    vec force = vec_zero();
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a)
+        force.c[a] += LANE(lane_force[a], l);
+    if (walls_end > k_end && !IS_FIXED(i)) {
+        /* the wall pairs' share of F_i: pressure part, viscous part */
+        vec wall_flux = vec_zero(), wall_visc = vec_zero();
+        for (int k = k_end; k < walls_end; ++k) {
+            const int slot = ROW_SLOT(i, k);
+            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux,
+                               &wall_visc);
+        }
+        const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
+        const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
+        if (PRESENT(wall_force)) {
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+                wall_force[a * n + i] = wall_p.c[a];
+                wall_force[(SPH_DIM + a) * n + i] = wall_v.c[a];
+            }
+        }
+        force = vec_add(force, vec_add(wall_p, wall_v));
+    }
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + i] += force.c[a];
+}
+
+/* Between the stages, per particle: v' = v + dt F / m (fixed-state and wall
+ * particles keep v' = v), force_sum zeroed for the next step, and the
+ * second stage's sums zeroed. */
+FN void eulerian_momentum_stage(
+    const int i, const int n, const real dt, GLOBAL const real *restrict vel,
+    GLOBAL const real *restrict mass, GLOBAL real *restrict vel_stage,
+    GLOBAL real *restrict force_sum, GLOBAL real *restrict mass_rate,
+    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS FIXED_PARAM KIND_PARAMS) {
+#            if SPH_FLUID_KINDS
+    (void)normal;
+#            endif
+    vec v = vec_load(vel, n, i);
+    if (!IS_FIXED(i) && KIND_OF(i) != SPH_PARTICLE_WALL)
+        v = vec_axpy(v, dt / mass[i], vec_load(force_sum, n, i));
+    vec_store(vel_stage, n, i, v);
+    vec_store(force_sum, n, i, vec_zero());
+    mass_rate[i] = R(0);
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = R(0);
+#            if SPH_HAS_COMPRESSIBLE
+    (void)energy;
+    energy_rate[i] = R(0);
+#            endif
+}
+
+/* Stage 2 on row i's pairs k_begin <= k < k_end, then, where walls, the
+ * row's wall pairs (their curl): dm/dt, d(E w)/dt and the vorticity, i's
+ * share and j's. */
+FN_HOT void eulerian_mass_energy_pairs(
+    const int i, const int n, const int k_begin, const int k_end, const int walls_end,
+    CONSTANT sph_params *prm, ONCE_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
+    GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
+    GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel_stage,
+    GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
+    GLOBAL real *restrict mass_rate,
+    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
+    if (KIND_OF(i) == SPH_PARTICLE_WALL) return;
+#            if SPH_FLUID_KINDS
+    (void)normal;
+#            endif
+    const int stride = ROWS_STRIDE;
+    const fluid_solver solver = fluid_solver_make(prm);
+    const vec v_i = vec_load(vel_stage, n, i);
+    const fluid_point q_i = FLUID_POINT(i, v_i);
+    const real w_i = vol[i];
+    lanes lane_mass = lanes_zero(), lane_energy = lanes_zero(), lane_curl[3];
+    UNROLL for (int a = 0; a < 3; ++a) lane_curl[a] = lanes_zero();
+#            if SPH_HAS_COMPRESSIBLE
+    const real mu = prm->materials[0].viscosity;
+#            else
+    (void)pair_inv_r;
+#            endif
+    const int lanes_end = k_end;
+    for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
+        lanes_vec e;
+        lanes dwv;
+#            if SPH_HAS_COMPRESSIBLE
+        lanes inv_r;
+        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
+#            else
+        PAIR_LANES_GEOMETRY(e, dwv, (lanes *)0);
+#            endif
+        GATHER_FLUID_LANES(gq, vel_stage, NO_WALL_PAIR);
+        lanes keep;
+        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
+        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        const lanes vn = lanes_dot(s.v, e);
+        const lanes weight = R(-2) * w_i * dwv * keep;
+        const lanes mass_term = weight * (s.rho * vn);
+        lane_mass += mass_term;
+        lanes_vec dv;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = q.v.c[a] - v_i.c[a];
+        /* e x (v_j - v_i): i's curl takes it times dW w_j, j's times dW w_i */
+        lanes cross[3];
+        UNROLL for (int a = 0; a < 3; ++a) cross[a] = lanes_zero();
+        curl_add_lanes(cross, e, dv);
+        const int live = lanes_end - k0 < SPH_PAIR_LANES ? lanes_end - k0 : SPH_PAIR_LANES;
+        real w_s[SPH_PAIR_LANES];
+        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) w_s[l] =
+            l < live ? vol[nbr_j[ROW_SLOT(i, k0 + l)]] : w_i;
+        const lanes dwv_k = dwv * keep, dw_i = dwv_k * (w_i / LANES_FROM(w_s));
+        UNROLL for (int a = 0; a < NSPIN; ++a) lane_curl[a] += dwv_k * cross[a];
+#            if SPH_HAS_COMPRESSIBLE
+        /* the energy flux and the pairwise viscous work (eulerian_mass_energy_rate) */
+        lanes_vec v_mean;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
+        const lanes energy_term =
+            weight * ((s.energy + s.p) * vn + mu * inv_r * lanes_dot(dv, v_mean));
+        lane_energy += energy_term;
+#            else
+        const lanes energy_term = lanes_zero();
+#            endif
+        for (int l = 0; l < live; ++l) {
+            const int j = nbr_j[ROW_SLOT(i, k0 + l)];
+            mass_rate[j] -= LANE(mass_term, l);
+            UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + j] +=
+                LANE(dw_i, l) * LANE(cross[a], l);
+#            if SPH_HAS_COMPRESSIBLE
+            energy_rate[j] -= LANE(energy_term, l);
+#            endif
+        }
+        (void)energy_term;
+    }
+    vec wall_curl = vec_zero(); /* NSPIN components used */
+    for (int k = k_end; k < walls_end; ++k) {
+        const int slot = ROW_SLOT(i, k);
+        wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot, nbr_j[slot]));
+    }
+    real mass_sum = R(0), energy_sum = R(0);
+    vec curl = vec_zero();
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        mass_sum += LANE(lane_mass, l);
+        energy_sum += LANE(lane_energy, l);
+        UNROLL for (int a = 0; a < NSPIN; ++a) curl.c[a] += LANE(lane_curl[a], l);
+    }
+    curl = vec_add(curl, wall_curl);
+    mass_rate[i] += mass_sum;
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] += curl.c[a];
+#            if SPH_HAS_COMPRESSIBLE
+    energy_rate[i] += energy_sum;
+#            else
+    (void)energy_sum;
+#            endif
+}
+#        endif /* !SPH_OPENCL */
 
 /* Stage 3, per particle: the conserved variables and the pressure.  The
  * momentum is the conserved one: (m v)^{n+1} = m^n v' (= m^n v^n + dt F),

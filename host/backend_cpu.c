@@ -77,6 +77,22 @@ static size_t pair_slot_bytes(const sph_features *f, size_t real_size) {
     return sizeof(int32_t) + ((size_t)f->dim + 2 + tlsph) * real_size;
 }
 
+/* A fluid's packed rows and the rows of pairs summed once. */
+static void free_pair_rows(cpu_buffers *b) {
+    int32_t **rows[] = {&b->row_start,  &b->row_j,    &b->row_walls, &b->once_start, &b->once_count,
+                        &b->once_walls, &b->once_far, &b->once_j,    &b->far_rows};
+    for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k) {
+        free(*rows[k]);
+        *rows[k] = NULL;
+    }
+    void **geometry[] = {&b->once_e, &b->once_dwv, &b->once_inv_r, &b->force_sum};
+    for (size_t k = 0; k < sizeof geometry / sizeof geometry[0]; ++k) {
+        free(*geometry[k]);
+        *geometry[k] = NULL;
+    }
+    b->nfar_rows = 0;
+}
+
 static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *err) {
     const size_t slots = (size_t)be->n * (size_t)cap;
     /* before allocating: the new lists and everything else must fit */
@@ -99,10 +115,7 @@ static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *
     free(c->b.pair_inv_r);
     free(c->b.pair_w);
     c->b.pair_w = NULL;
-    free(c->b.row_start); /* padded rows from here on (pack_pair_rows) */
-    free(c->b.row_j);
-    free(c->b.row_walls);
-    c->b.row_start = c->b.row_j = c->b.row_walls = NULL;
+    free_pair_rows(&c->b); /* padded rows from here on (pack_pair_rows) */
     c->b.cap = cap;
     c->b.nbr_j = malloc(slots * sizeof(int32_t));
     c->b.pair_e = malloc(slots * (size_t)be->features.dim * c->real_size);
@@ -309,6 +322,125 @@ static sph_status pack_pair_rows(sph_backend *be, cpu_impl *c, sph_error *err) {
     return st;
 }
 
+/* The block length of the pairs summed once (eulerian_step.cl, "sum each
+ * fluid pair once"): the largest j - i of a fluid pair with j > i whose
+ * particles lie within the cut-off without a periodic image (a pair across
+ * a periodic axis may join the first particle and the last). */
+static int pairs_once_block(const sph_backend *be, const cpu_impl *c, const uint8_t *kind) {
+    const size_t n = (size_t)be->n, dim = (size_t)be->features.dim;
+    const double *pos = c->b.field[FIELD_POS]; /* fluids run in double */
+    const double cutoff = ((const sph_params_f64 *)c->b.prm)->cutoff;
+    const double reach2 = cutoff * cutoff * (1.0 + 1e-9);
+    int block = 1;
+    for (size_t i = 0; i < n; ++i) {
+        if (kind && kind[i] == SPH_PARTICLE_WALL) continue;
+        for (int32_t s = c->b.row_start[i]; s < c->b.row_start[i + 1]; ++s) {
+            const size_t j = (size_t)c->b.row_j[s];
+            if (j <= i || (int)(j - i) <= block || (kind && kind[j] == SPH_PARTICLE_WALL)) continue;
+            double d2 = 0.0;
+            for (size_t a = 0; a < dim; ++a) {
+                const double d = pos[a * n + i] - pos[a * n + j];
+                d2 += d * d;
+            }
+            if (d2 <= reach2) block = (int)(j - i);
+        }
+    }
+    return block;
+}
+
+/* The part of row i's slot k in the rows of pairs summed once: 0 a fluid
+ * pair with j > i in this block or the next, 1 one with j past them (far),
+ * 2 a wall pair, -1 none (j < i, or i a wall particle: the fluid side sums
+ * a wall pair). */
+static int once_part(const uint8_t *kind, int32_t i, int32_t j, int block) {
+    if (kind && kind[i] == SPH_PARTICLE_WALL) return -1;
+    if (kind && kind[j] == SPH_PARTICLE_WALL) return 2;
+    if (j < i) return -1;
+    return j / block <= i / block + 1 ? 0 : 1;
+}
+
+/* Fluids with the two stages: the rows of pairs summed once (cpu_buffers,
+ * eulerian_step.cl), copied from the packed rows after fluid_setup has
+ * corrected their gradients. */
+static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) {
+    const size_t n = (size_t)be->n, dim = (size_t)be->features.dim, esize = c->real_size;
+    const size_t total = (size_t)c->b.row_start[n];
+    const int lanes = c->k->pair_lanes;
+    const uint8_t *kind = c->b.field[FIELD_KIND];
+    const int block = pairs_once_block(be, c, kind);
+    cpu_buffers *b = &c->b;
+    b->pair_block = block;
+    b->once_start = malloc((n + 1) * sizeof(int32_t));
+    b->once_count = malloc(n * sizeof(int32_t));
+    b->once_walls = malloc(n * sizeof(int32_t));
+    b->once_far = malloc(n * sizeof(int32_t));
+    if (!b->once_start || !b->once_count || !b->once_walls || !b->once_far)
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    size_t slots = 0;
+    int nfar_rows = 0;
+    for (size_t i = 0; i < n; ++i) {
+        int parts[3] = {0, 0, 0};
+        for (int32_t s = b->row_start[i]; s < b->row_start[i + 1]; ++s) {
+            const int part = once_part(kind, (int32_t)i, b->row_j[s], block);
+            if (part >= 0) ++parts[part];
+        }
+        b->once_start[i] = (int32_t)slots;
+        b->once_count[i] = (parts[0] + lanes - 1) / lanes * lanes;
+        b->once_far[i] = (parts[1] + lanes - 1) / lanes * lanes;
+        b->once_walls[i] = parts[2];
+        nfar_rows += parts[1] > 0;
+        slots += (size_t)(b->once_count[i] + b->once_walls[i] + b->once_far[i]);
+    }
+    if (slots > (size_t)INT32_MAX / 3)
+        return sph_fail(err, SPH_ERR_RUNTIME, "%zu particle pairs exceed the 32-bit pair index",
+                        slots);
+    b->once_start[n] = (int32_t)slots;
+    const size_t alloc = slots ? slots : 1;
+    /* zeros: the padding's geometry */
+    b->once_j = malloc(alloc * sizeof(int32_t));
+    b->once_e = calloc(alloc * dim, esize);
+    b->once_dwv = calloc(alloc, esize);
+    b->once_inv_r = calloc(alloc, esize);
+    b->far_rows = malloc((nfar_rows ? (size_t)nfar_rows : 1) * sizeof(int32_t));
+    b->force_sum = calloc(n * dim, esize);
+    if (!b->once_j || !b->once_e || !b->once_dwv || !b->once_inv_r || !b->far_rows || !b->force_sum)
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    b->nfar_rows = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const size_t first = (size_t)b->once_start[i];
+        /* the next slot of each part (once_part): pairs, far (after the
+         * walls), walls (after the pairs) */
+        size_t next[3] = {first, first + (size_t)(b->once_count[i] + b->once_walls[i]),
+                          first + (size_t)b->once_count[i]};
+        for (int32_t s = b->row_start[i]; s < b->row_start[i + 1]; ++s) {
+            const int part = once_part(kind, (int32_t)i, b->row_j[s], block);
+            if (part < 0) continue;
+            const size_t to = next[part]++;
+            b->once_j[to] = b->row_j[s];
+            for (size_t a = 0; a < dim; ++a)
+                memcpy((char *)b->once_e + (a * slots + to) * esize,
+                       (const char *)b->pair_e + (a * total + (size_t)s) * esize, esize);
+            memcpy((char *)b->once_dwv + to * esize, (const char *)b->pair_dwv + (size_t)s * esize,
+                   esize);
+            memcpy((char *)b->once_inv_r + to * esize,
+                   (const char *)b->pair_inv_r + (size_t)s * esize, esize);
+        }
+        /* empty pairs (j = i, zero geometry) to whole lanes */
+        for (size_t to = next[0]; to < first + (size_t)b->once_count[i]; ++to)
+            b->once_j[to] = (int32_t)i;
+        for (size_t to = next[1];
+             to < (size_t)b->once_start[i] +
+                      (size_t)(b->once_count[i] + b->once_walls[i] + b->once_far[i]);
+             ++to)
+            b->once_j[to] = (int32_t)i;
+        if (b->once_far[i] > 0) b->far_rows[b->nfar_rows++] = (int32_t)i;
+    }
+    sph_backend_record_buffer(be, "fluid pairs summed once",
+                              (n * 4 + 1 + slots + (size_t)nfar_rows) * sizeof(int32_t) +
+                                  slots * (dim + 2) * esize + n * dim * esize);
+    return SPH_OK;
+}
+
 /* Phase timing when profiling (wall clock of the calling thread). */
 static double phase_start(const sph_backend *be) {
     return be->profiling ? omp_get_wtime() : 0.0;
@@ -363,6 +495,8 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         t0 = phase_start(be);
         if ((st = pack_pair_rows(be, c, err))) return st;
         c->k->fluid_setup(&c->b);
+        /* the two stages (SSP-RK2 has a momentum-rate field) */
+        if (!c->b.field[FIELD_MOMENTUM_RATE] && (st = build_once_rows(be, c, err))) return st;
         phase_end(be, "fluid setup", t0);
     }
     info->max_neighbours = c->b.cap;
@@ -466,9 +600,7 @@ static void cpu_destroy(sph_backend *be) {
         }
         free(c->b.nbr_count);
         free(c->b.nbr_j);
-        free(c->b.row_start);
-        free(c->b.row_j);
-        free(c->b.row_walls);
+        free_pair_rows(&c->b);
         free(c->b.pair_e);
         free(c->b.pair_dwv);
         free(c->b.pair_inv_r);

@@ -25,6 +25,17 @@ typedef struct {
      * pairs come last, row_walls[i] of them (NULL without walls).  NULL
      * before */
     int32_t *row_start, *row_j, *row_walls;
+    /* ... and, for the two-stage passes, each fluid pair once
+     * (eulerian_step.cl, "sum each fluid pair once"; build_once_rows): row i
+     * from once_start[i] holds once_count[i] pairs with j > i (padded with
+     * empty pairs, j = i, to whole lanes), once_walls[i] wall pairs, then
+     * once_far[i] far pairs, in once_j and once_e, once_dwv, once_inv_r;
+     * far_rows lists the nfar_rows rows with far pairs; pair_block is the
+     * block length; force_sum the momentum rates (dim x n).  NULL before,
+     * and for SSP-RK2 */
+    int32_t *once_start, *once_count, *once_walls, *once_far, *once_j, *far_rows;
+    void *once_e, *once_dwv, *once_inv_r, *force_sum;
+    int nfar_rows, pair_block;
     void *pair_w; /* TLSPH only: reference hourglass weights (else NULL) */
     uint64_t *keys;
     int32_t *cell_start, *cell_end;
@@ -41,6 +52,7 @@ typedef struct {
     bool double_precision;
     bool mixed_precision; /* single arithmetic, history fields double */
     int formulation;      /* the FORMULATION_* it was compiled for */
+    int pair_lanes;       /* SPH_PAIR_LANES: the pair loops' SIMD lanes */
     /* V = m/rho; out: -min x (dim), max x (dim), max |v|^2, max 4h|a| */
     void (*rebuild_reduce)(cpu_buffers *b, double *out);
     /* keys of the cells of x + geometry_shift v (neighbour_build.cl) */

@@ -178,6 +178,38 @@ static void fluid_setup_impl(cpu_buffers *b) {
     }
 }
 
+/* The pairs summed once of a two-stage pass (eulerian_step.cl), ROW(i,
+ * k_begin, k_end, walls_end) per row as orphaned loops of the caller's
+ * parallel region: the even blocks of pair_block particles, then the odd
+ * ones (a block writes to itself and the next one only), each row with its
+ * wall pairs, then the far pairs on one thread. */
+#    define ONCE_ROWS(b) (b)->once_start, (b)->once_j
+#    define ONCE_GEOMETRY(b)                                                                       \
+        (const real *)(b)->once_e, (const real *)(b)->once_dwv, (const real *)(b)->once_inv_r
+#    define PAIRS_ONCE(b, ROW)                                                                     \
+        do {                                                                                       \
+            const int block_ = (b)->pair_block, nblocks_ = (n + block_ - 1) / block_;              \
+            for (int parity_ = 0; parity_ < 2; ++parity_) {                                        \
+                _Pragma("omp for schedule(dynamic, 1)") for (int q_ = 0;                           \
+                                                             q_ < (nblocks_ - parity_ + 1) / 2;    \
+                                                             ++q_) {                               \
+                    const int first_ = (2 * q_ + parity_) * block_;                                \
+                    const int last_ = first_ + block_ < n ? first_ + block_ : n;                   \
+                    for (int i = first_; i < last_; ++i) {                                         \
+                        const int k_begin = 0, k_end = (b)->once_count[i];                         \
+                        const int walls_end = k_end + (b)->once_walls[i];                          \
+                        ROW;                                                                       \
+                    }                                                                              \
+                }                                                                                  \
+            }                                                                                      \
+            _Pragma("omp single") for (int r_ = 0; r_ < (b)->nfar_rows; ++r_) {                    \
+                const int i = (b)->far_rows[r_];                                                   \
+                const int k_begin = (b)->once_count[i] + (b)->once_walls[i];                       \
+                const int k_end = k_begin + (b)->once_far[i], walls_end = k_end;                   \
+                ROW;                                                                               \
+            }                                                                                      \
+        } while (0)
+
 /* One step of a fluid run (eulerian_step.cl) in one parallel region: the
  * momentum rate, the mass and energy rates, the update (or SSP-RK2's two
  * rate passes and stage updates), the far field, then the step clock's
@@ -215,24 +247,27 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
                         F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
             }
         } else {
+            /* the two stages, each fluid pair summed once (eulerian_step.cl) */
+            PAIRS_ONCE(b, eulerian_momentum_pairs(
+                              i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
+                              F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL),
+                              F_REAL(b, FIELD_PRESSURE),
+                              (real *)b->force_sum ENERGY_FIELD_ARG SOUND_FIELD_ARG,
+                              F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE)));
 #    pragma omp for schedule(static)
             for (int i = 0; i < n; ++i)
-                eulerian_momentum_rate(
-                    i, n, dt, prm, FLUID_ROWS(b), (const real *)b->pair_e,
-                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
-                    F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                    F_REAL(b, FIELD_PRESSURE),
-                    F_REAL(b, FIELD_VEL_STAGE) ENERGY_FIELD_ARG SOUND_FIELD_ARG,
-                    F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE));
-#    pragma omp for schedule(static)
-            for (int i = 0; i < n; ++i)
-                eulerian_mass_energy_rate(
-                    i, n, dt, prm, FLUID_ROWS(b), (const real *)b->pair_e,
-                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r, F_HREAL(b, FIELD_RHO),
-                    F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                    F_REAL(b, FIELD_MASS_RATE),
-                    F_REAL(b, FIELD_VORTICITY)
-                        ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS);
+                eulerian_momentum_stage(i, n, dt, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                                        F_REAL(b, FIELD_VEL_STAGE), (real *)b->force_sum,
+                                        F_REAL(b, FIELD_MASS_RATE),
+                                        F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS,
+                                        F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+            PAIRS_ONCE(b,
+                       eulerian_mass_energy_pairs(
+                           i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
+                           F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL),
+                           F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_MASS_RATE),
+                           F_REAL(b, FIELD_VORTICITY)
+                               ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS));
 #    pragma omp for schedule(static)
             for (int i = 0; i < n; ++i)
                 eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VEL_STAGE),
@@ -541,6 +576,7 @@ const cpu_kernels CPU_VARIANT = {
     .double_precision = SPH_DOUBLE,
     .mixed_precision = SPH_MIXED,
     .formulation = SPH_CPU_FORMULATION,
+    .pair_lanes = SPH_PAIR_LANES,
     .rebuild_reduce = rebuild_reduce_impl,
     .cell_keys = cell_keys_impl,
     .sort_by_cell = sort_by_cell_impl,
