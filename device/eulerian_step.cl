@@ -331,6 +331,27 @@ FN_HOT void pair_lanes_geometry(GLOBAL const real *restrict pair_e,
             fluid_point_gather_set(&(gq_), l, FLUID_POINT(j, vec_load(vel_, n, j)), R(1));         \
         }
 
+/* A pass's lanes from k0: their geometry e, dwv (and the viscous weight
+ * into *inv_r_ptr_, where the pass wants it), the neighbours' states q
+ * (their velocity from vel_) with keep, and the interface states s. */
+#    define PAIR_LANES_STATES(inv_r_ptr_, vel_, WALL_PAIR)                                         \
+        lanes_vec e;                                                                               \
+        lanes dwv;                                                                                 \
+        PAIR_LANES_GEOMETRY(e, dwv, (inv_r_ptr_));                                                 \
+        GATHER_FLUID_LANES(gq, vel_, WALL_PAIR);                                                   \
+        lanes keep;                                                                                \
+        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);                            \
+        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e)
+/* The mass and energy passes' viscous weight: only the compressible
+ * formulation's viscous work reads it. */
+#    if SPH_HAS_COMPRESSIBLE
+#        define MASS_PASS_INV_R_DECL lanes inv_r
+#        define MASS_PASS_INV_R      (&inv_r)
+#    else
+#        define MASS_PASS_INV_R_DECL (void)0
+#        define MASS_PASS_INV_R      ((lanes *)0)
+#    endif
+
 /* The interface states of lanes of pairs (i, j): the linearised solver on
  * the lanes, HLLC (its branches) lane by lane. */
 FN_HOT fluid_state_lanes pair_interface_lanes(const fluid_solver solver, const fluid_point a,
@@ -580,14 +601,9 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
 #        define MOMENTUM_WALL_PAIR(slot_, j_)                                                      \
             momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot_, j_), &wall_flux, &wall_visc)
     for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        lanes_vec e;
-        lanes dwv, inv_r;
-        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
-        GATHER_FLUID_LANES(gq, vel, MOMENTUM_WALL_PAIR);
-        lanes keep;
-        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
+        lanes inv_r;
+        PAIR_LANES_STATES(&inv_r, vel, MOMENTUM_WALL_PAIR);
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
-        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
         momentum_lanes_add(lane_flux, lane_visc, s, lanes_dot(s.v, e), e, dwv_k, visc_w, v_i, q.v);
     }
     WALL_PAIRS_AFTER_LANES(MOMENTUM_WALL_PAIR)
@@ -650,18 +666,8 @@ KERNEL void eulerian_mass_energy_rate(
 #        define CURL_WALL_PAIR(slot_, j_)                                                          \
             wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot_, j_))
     for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        lanes_vec e;
-        lanes dwv;
-#        if SPH_HAS_COMPRESSIBLE
-        lanes inv_r;
-        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
-#        else
-        PAIR_LANES_GEOMETRY(e, dwv, (lanes *)0);
-#        endif
-        GATHER_FLUID_LANES(gq, vel_stage, CURL_WALL_PAIR);
-        lanes keep;
-        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
-        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        MASS_PASS_INV_R_DECL;
+        PAIR_LANES_STATES(MASS_PASS_INV_R, vel_stage, CURL_WALL_PAIR);
 #        if SPH_HAS_COMPRESSIBLE
         const lanes visc_w = dwv * inv_r * keep;
 #        else
@@ -737,13 +743,8 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] = lanes_zero();
     const int lanes_end = k_end;
     for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        lanes_vec e;
-        lanes dwv, inv_r;
-        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
-        GATHER_FLUID_LANES(gq, vel, NO_WALL_PAIR);
-        lanes keep;
-        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
-        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        lanes inv_r;
+        PAIR_LANES_STATES(&inv_r, vel, NO_WALL_PAIR);
         const lanes vn = lanes_dot(s.v, e);
         /* -2 w_i dW w_j: F_i = -2 w_i sum_j [flux - mu (v_i - v_j) / r~] dW w_j */
         const lanes weight = R(-2) * w_i * dwv * keep;
@@ -836,18 +837,8 @@ FN_HOT void eulerian_mass_energy_pairs(
 #            endif
     const int lanes_end = k_end;
     for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        lanes_vec e;
-        lanes dwv;
-#            if SPH_HAS_COMPRESSIBLE
-        lanes inv_r;
-        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
-#            else
-        PAIR_LANES_GEOMETRY(e, dwv, (lanes *)0);
-#            endif
-        GATHER_FLUID_LANES(gq, vel_stage, NO_WALL_PAIR);
-        lanes keep;
-        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
-        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
+        MASS_PASS_INV_R_DECL;
+        PAIR_LANES_STATES(MASS_PASS_INV_R, vel_stage, NO_WALL_PAIR);
         const lanes vn = lanes_dot(s.v, e);
         const lanes weight = R(-2) * w_i * dwv * keep;
         const lanes mass_term = weight * (s.rho * vn);
@@ -990,14 +981,9 @@ KERNEL void eulerian_rates(
                 wall_curl = curl_of_wall_pair(wall_curl, v_i, w_);                                 \
             } while (0)
     for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        lanes_vec e;
-        lanes dwv, inv_r;
-        PAIR_LANES_GEOMETRY(e, dwv, &inv_r);
-        GATHER_FLUID_LANES(gq, vel, RATES_WALL_PAIR);
-        lanes keep;
-        const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);
+        lanes inv_r;
+        PAIR_LANES_STATES(&inv_r, vel, RATES_WALL_PAIR);
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
-        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e);
         const lanes vn = lanes_dot(s.v, e);
         momentum_lanes_add(lane_flux, lane_visc, s, vn, e, dwv_k, visc_w, v_i, q.v);
         mass_energy_lanes_add(&acc, s, vn, e, dwv_k, visc_w, v_i, q.v);
