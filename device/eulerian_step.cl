@@ -81,6 +81,10 @@
 #        define KIND_PARAMS
 #        define KIND_OF(k) SPH_PARTICLE_FLUID
 #    endif
+/* a wall particle, whose state no step changes (a macro, also where it is a
+ * constant: clang warns of a logical operator with a constant operand
+ * written out, not of one from a macro) */
+#    define IS_WALL(k) (KIND_OF(k) == SPH_PARTICLE_WALL)
 /* the wall pairs' share of each fluid particle's F (pressure part, then
  * viscous part): minus their sum is the force on the walls */
 #    if SPH_FLUID_WALLS
@@ -304,7 +308,7 @@ FN_HOT void pair_lanes_geometry(GLOBAL const real *restrict pair_e,
  * wall pair gets WALL_PAIR(slot, j) and an empty lane. */
 #    if SPH_FLUID_KINDS && !WALL_PAIRS_LAST
 #        define LANE_WALL_PAIR(gq_, l, WALL_PAIR)                                                  \
-            if (live_ && KIND_OF(j) == SPH_PARTICLE_WALL) {                                        \
+            if (live_ && IS_WALL(j)) {                                                             \
                 WALL_PAIR(slot, j);                                                                \
                 LANE_PAIR_EMPTY(gq_, l);                                                           \
                 continue;                                                                          \
@@ -595,7 +599,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     /* wall pairs: their pressure flux and velocity sums */
     vec wall_flux = vec_zero(), wall_visc = vec_zero();
     /* fixed-state and wall particles do not evolve: F = 0 */
-    const int count = IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
+    const int count = IS_FIXED(i) || IS_WALL(i) ? 0 : ROW_COUNT(i);
     /* the lanes' pairs: all, or the fluid pairs before the row's walls */
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
 #        define MOMENTUM_WALL_PAIR(slot_, j_)                                                      \
@@ -660,7 +664,7 @@ KERNEL void eulerian_mass_energy_rate(
 #        endif
     vec wall_curl = vec_zero(); /* NSPIN components used */
     /* a wall particle's rates are never used (the update leaves it alone) */
-    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
+    const int count = IS_WALL(i) ? 0 : ROW_COUNT(i);
     /* the lanes' pairs: all, or the fluid pairs before the row's walls */
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
 #        define CURL_WALL_PAIR(slot_, j_)                                                          \
@@ -718,10 +722,12 @@ KERNEL void eulerian_mass_energy_rate(
 #            define ONCE_ROWS_PARAMS                                                               \
                 GLOBAL const int *restrict row_start, GLOBAL const int *restrict nbr_j
 
-/* Stage 1 on row i's pairs k_begin <= k < k_end (fluid pairs with j > i),
- * then, where walls, the row's wall pairs: the momentum rate F into
- * force_sum (i's share and -its share for each j), the wall pairs' pressure
- * and viscous parts into wall_force. */
+/* Stage 1 on row i's fluid pairs k_begin <= k < k_end, then its wall pairs
+ * k_end <= k < walls_end (none for the far pairs): the momentum rate F into
+ * force_sum (i's share, and minus it for each j), the wall pairs' pressure
+ * and viscous parts into wall_force (a fixed-state particle's F is never
+ * used, so it skips its wall pairs; a particle without them keeps the zeros
+ * the upload wrote). */
 FN_HOT void
 eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k_end,
                         const int walls_end, CONSTANT sph_params *prm, ONCE_ROWS_PARAMS,
@@ -732,7 +738,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
                         GLOBAL real *restrict force_sum ENERGY_PARAM SOUND_PARAM FIXED_PARAM
                             KIND_PARAMS WALL_FORCE_PARAM) {
     /* a wall particle's row holds no fluid pair it sums (build_once_rows) */
-    if (KIND_OF(i) == SPH_PARTICLE_WALL) return;
+    if (IS_WALL(i)) return;
     const int stride = ROWS_STRIDE;
     const real mu = prm->materials[0].viscosity;
     const fluid_solver solver = fluid_solver_make(prm);
@@ -796,8 +802,7 @@ FN void eulerian_momentum_stage(
     (void)normal;
 #            endif
     vec v = vec_load(vel, n, i);
-    if (!IS_FIXED(i) && KIND_OF(i) != SPH_PARTICLE_WALL)
-        v = vec_axpy(v, dt / mass[i], vec_load(force_sum, n, i));
+    if (!IS_FIXED(i) && !IS_WALL(i)) v = vec_axpy(v, dt / mass[i], vec_load(force_sum, n, i));
     vec_store(vel_stage, n, i, v);
     vec_store(force_sum, n, i, vec_zero());
     mass_rate[i] = R(0);
@@ -808,9 +813,9 @@ FN void eulerian_momentum_stage(
 #            endif
 }
 
-/* Stage 2 on row i's pairs k_begin <= k < k_end, then, where walls, the
- * row's wall pairs (their curl): dm/dt, d(E w)/dt and the vorticity, i's
- * share and j's. */
+/* Stage 2 on row i's fluid pairs k_begin <= k < k_end, then its wall pairs
+ * k_end <= k < walls_end (their curl): dm/dt, d(E w)/dt and the vorticity,
+ * i's share and j's, into the sums eulerian_momentum_stage zeroed. */
 FN_HOT void eulerian_mass_energy_pairs(
     const int i, const int n, const int k_begin, const int k_end, const int walls_end,
     CONSTANT sph_params *prm, ONCE_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
@@ -819,7 +824,7 @@ FN_HOT void eulerian_mass_energy_pairs(
     GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
     GLOBAL real *restrict mass_rate,
     GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
-    if (KIND_OF(i) == SPH_PARTICLE_WALL) return;
+    if (IS_WALL(i)) return;
 #            if SPH_FLUID_KINDS
     (void)normal;
 #            endif
@@ -914,7 +919,7 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
                                 SOUND_OUT_PARAM FIXED_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
-    if (i >= n || IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL) return;
+    if (i >= n || IS_FIXED(i) || IS_WALL(i)) return;
 #        if SPH_FLUID_KINDS
     (void)normal;
 #        endif
@@ -971,7 +976,7 @@ KERNEL void eulerian_rates(
     mass_energy_lanes acc = mass_energy_lanes_zero();
     vec wall_flux = vec_zero(), wall_visc = vec_zero(), wall_curl = vec_zero();
     /* a wall particle's rates are never used */
-    const int count = KIND_OF(i) == SPH_PARTICLE_WALL ? 0 : ROW_COUNT(i);
+    const int count = IS_WALL(i) ? 0 : ROW_COUNT(i);
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
     /* a wall pair: as the two-stage passes' (no mass or energy crosses it) */
 #        define RATES_WALL_PAIR(slot_, j_)                                                         \
@@ -1035,7 +1040,7 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, STEP_DT_
                                    SOUND_OUT_PARAM FIXED_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
-    if (i >= n || IS_FIXED(i) || KIND_OF(i) == SPH_PARTICLE_WALL) return;
+    if (i >= n || IS_FIXED(i) || IS_WALL(i)) return;
 #        if SPH_FLUID_KINDS
     (void)normal;
 #        endif

@@ -479,7 +479,7 @@ def markdown(result, args, png_names):
            "and its choices: [fluids.md](fluids.md).  Rerun with", "", "```sh",
            "tools/bench_fluids.py            # every run (1.5 hours or more on 2 idle cores; "
            "the two Shu-Osher strips at 1/800 take most of it, the cylinder at 1/10 ~13 min)",
-           "tools/bench_fluids.py --suites cylinder --cyl-n 20    # the seed's 1/20 (hours)",
+           "tools/bench_fluids.py --suites cylinder --cyl-n 20 --cyl-end 200    # the seed's 1/20 to t = 200 (55 min on 2 cores)",
            "tools/bench_fluids.py --quick    # TGV at 1/25 and 1/50, Shu-Osher at 1/200",
            "```", "",
            f"Last invocation: `{result['command']}` on {env.get('date', '?')[:10]}, "
@@ -647,6 +647,12 @@ def markdown(result, args, png_names):
                 f"{fmt(r.get('omp_num_threads') or env.get('cores'), 'd')} | " + row_end(r))
         out.append("")
         for r in cyl:
+            if r.get("end", CYL_END) < CYL_END:
+                out.append(f"- {KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}: a run to "
+                           f"t = {r['end']:g}, shorter than the seed's {CYL_END:g}; its window "
+                           f"starts at t = {r['end'] - r['window']:g} and may still hold the "
+                           "wake's growth (`cases/cylinder_flow_2d/README.md` gives the "
+                           "saturated part's figures).")
             if r["n"] == 10 and r.get("end", CYL_END) == CYL_END and r.get("wall_time_s"):
                 met = r["wall_time_s"] <= CYL_TARGET_SECONDS
                 out.append(f"- {KERNEL_LABELS.get(r['kernel'])}, dp = 1/10: {r['wall_time_s']:.0f} s "
