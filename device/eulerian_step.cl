@@ -499,6 +499,22 @@ FN void momentum_wall_pair(const fluid_solver solver, const fluid_point q_i, con
     *wall_flux = vec_axpy(*wall_flux, w.dwv, fluid_momentum_flux(s, w.e));
     *wall_visc = vec_axpy(*wall_visc, w.dwv * w.inv_r, q_i.v);
 }
+/* The wall pairs' share of F_i from their sums (momentum_wall_pair): the
+ * pressure part -2 w_i wall_flux and the viscous part 4 mu w_i wall_visc,
+ * each kept in wall_force where the scene measures the force on its walls;
+ * returns their sum. */
+FN vec wall_pairs_force(const vec wall_flux, const vec wall_visc, const real w_i, const real mu,
+                        const int i, const int n, GLOBAL real *restrict wall_force) {
+    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
+    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
+    if (PRESENT(wall_force)) {
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            wall_force[a * n + i] = wall_p.c[a];
+            wall_force[(SPH_DIM + a) * n + i] = wall_v.c[a];
+        }
+    }
+    return vec_add(wall_p, wall_v);
+}
 /* The mass pass's wall pair: no mass crosses the wall (against the
  * mirrored state the linearised solver's v* is 0); the vorticity sees the
  * wall at rest. */
@@ -620,15 +636,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
     /* the wall pairs' share of F_i: pressure part, viscous part */
-    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
-    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
-    if (PRESENT(wall_force)) {
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            wall_force[a * n + i] = wall_p.c[a];
-            wall_force[(SPH_DIM + a) * n + i] = wall_v.c[a];
-        }
-    }
-    force = vec_add(force, vec_add(wall_p, wall_v));
+    force = vec_add(force, wall_pairs_force(wall_flux, wall_visc, w_i, mu, i, n, wall_force));
 #        else
     (void)wall_flux;
     (void)wall_visc;
@@ -777,15 +785,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
             momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux,
                                &wall_visc);
         }
-        const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
-        const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
-        if (PRESENT(wall_force)) {
-            UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-                wall_force[a * n + i] = wall_p.c[a];
-                wall_force[(SPH_DIM + a) * n + i] = wall_v.c[a];
-            }
-        }
-        force = vec_add(force, vec_add(wall_p, wall_v));
+        force = vec_add(force, wall_pairs_force(wall_flux, wall_visc, w_i, mu, i, n, wall_force));
     }
     UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + i] += force.c[a];
 }
