@@ -182,7 +182,9 @@ static void fluid_setup_impl(cpu_buffers *b) {
  * k_begin, k_end, walls_end) per row as orphaned loops of the caller's
  * parallel region: the even blocks of pair_block particles, then the odd
  * ones (a block writes to itself and the next one only), each row with its
- * wall pairs, then the far pairs on one thread. */
+ * wall pairs, then the far pairs on one thread.  The blocks go to the
+ * threads as they free up (schedule dynamic): one thread sums a block's
+ * rows in order, so which thread it is changes no sum. */
 #    define ONCE_ROWS(b) (b)->once_start, (b)->once_j
 #    define ONCE_GEOMETRY(b)                                                                       \
         (const real *)(b)->once_e, (const real *)(b)->once_dwv, (const real *)(b)->once_inv_r
