@@ -425,14 +425,12 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
             memcpy((char *)b->once_inv_r + to * esize,
                    (const char *)b->pair_inv_r + (size_t)s * esize, esize);
         }
-        /* empty pairs (j = i, zero geometry) to whole lanes */
-        for (size_t to = next[0]; to < first + (size_t)b->once_count[i]; ++to)
-            b->once_j[to] = (int32_t)i;
-        for (size_t to = next[1];
-             to < (size_t)b->once_start[i] +
-                      (size_t)(b->once_count[i] + b->once_walls[i] + b->once_far[i]);
-             ++to)
-            b->once_j[to] = (int32_t)i;
+        /* empty pairs (j = i, zero geometry) to whole lanes: after the
+         * pairs, and after the far pairs, at the row's end */
+        const size_t pads[2][2] = {{next[0], first + (size_t)b->once_count[i]},
+                                   {next[1], (size_t)b->once_start[i + 1]}};
+        for (int p = 0; p < 2; ++p)
+            for (size_t to = pads[p][0]; to < pads[p][1]; ++to) b->once_j[to] = (int32_t)i;
         if (b->once_far[i] > 0) b->far_rows[b->nfar_rows++] = (int32_t)i;
     }
     sph_backend_record_buffer(be, "fluid pairs summed once",

@@ -57,6 +57,7 @@ import json
 import math
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 
@@ -64,7 +65,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import SANITIZED, SRC, check, finish, run_results, run_sphsolid  # noqa: E402
+from sphtest import BIN, SANITIZED, SRC, check, finish, run_results, run_sphsolid  # noqa: E402
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 LONG_RUNS = BACKEND == "cpu" and not SANITIZED
@@ -360,8 +361,6 @@ if code == 4:
 # threads run it; periodic on both axes), weakly compressible and as an ideal gas, 30 steps on
 # 1 and on 2 threads: the same bits.
 if BACKEND == "cpu":
-    import subprocess
-    from sphtest import BIN
     for label, scene in (("weakly compressible", TGV), ("ideal gas", TGV_GAS)):
         outs = []
         for threads in (1, 2):
