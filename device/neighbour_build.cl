@@ -181,8 +181,9 @@ FN mat refine_correction(const mat a, const mat b) {
 #if SPH_HAS_TLSPH
 /* TLSPH's hourglass force weighs each pair by W(X_ij) V0_j / X_ij^2 of the
  * reference configuration (002): stored once, so the kernel's cost does not
- * enter the substeps (Laguerre-Gauss costs the same per step as Wendland) */
-#    define PAIR_W_PARAMS , GLOBAL real *restrict pair_w
+ * enter the substeps (Laguerre-Gauss costs the same per step as Wendland);
+ * and F starts as the identity */
+#    define PAIR_W_PARAMS , GLOBAL real *restrict pair_w, GLOBAL real *restrict defgrad
 #else
 #    define PAIR_W_PARAMS
 #endif
@@ -419,6 +420,11 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT sph
     mat b = correction_matrix(moment);
     if (RUNTIME_FORMULATION == FORMULATION_TLSPH) b = refine_correction(moment, b);
     sym_store(bmat, n, i, b);
+#if SPH_HAS_TLSPH
+    /* the reference configuration's F = I, which the strain energy of t = 0
+     * reads before the first substep computes F (reduction.cl) */
+    if (PRESENT(defgrad)) mat_store(defgrad, n, i, mat_identity());
+#endif
 }
 
 #if SPH_OPENCL && !SPH_COUNTING_SORT

@@ -18,6 +18,7 @@
 #include "sph_vec.h"
 #include "sph_rotation.h"
 #include "sph_elasticity.h"
+#include "sph_hyperelastic.h"
 #include "sph_torque_projection.h"
 #include "eulerian_step.cl"
 
@@ -168,14 +169,33 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT sph_pa
 FN void diagnostics_contrib(const int i, const int n, CONSTANT sph_params *prm,
                             GLOBAL const hreal *pos, GLOBAL const real *vel,
                             GLOBAL const real *mass, GLOBAL const hreal *rho,
-                            GLOBAL const hreal *tau, real *c) {
+                            GLOBAL const hreal *tau, GLOBAL const real *defgrad, real *c) {
     const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
     const real m = mass[i];
     c[DIAG_KINETIC] = R(0.5) * m * vec_dot(v, v);
-    const real volume = (real)(m / rho[i]);
-    c[DIAG_STRAIN] = volume * strain_energy_density(hsym_load(tau, n, i), eos_pressure(prm, rho[i]),
-                                                    prm->materials[0].shear_modulus,
-                                                    prm->materials[0].bulk_modulus);
+    /* elastic TLSPH: its law's own strain energy V0 psi(F) (sph_hyperelastic.h);
+     * F is that of the substep's half-step positions.  (OpenCL decides at
+     * compile time: its RUNTIME_* are constants.) */
+#if SPH_HAS_TLSPH && (!SPH_OPENCL || !SPH_PLASTIC)
+#    if SPH_OPENCL
+    if (PRESENT(defgrad))
+#    else
+    if (RUNTIME_FORMULATION == FORMULATION_TLSPH && !RUNTIME_PLASTIC && PRESENT(defgrad))
+#    endif
+        c[DIAG_STRAIN] =
+            m / prm->materials[0].rho0 * tl_strain_energy(mat_load(defgrad, n, i), prm);
+    else
+#else
+    (void)defgrad;
+#endif
+    {
+        /* the linear-elastic estimate from the density and the deviatoric stress */
+        const real volume = (real)(m / rho[i]);
+        c[DIAG_STRAIN] =
+            volume * strain_energy_density(hsym_load(tau, n, i), eos_pressure(prm, rho[i]),
+                                           prm->materials[0].shear_modulus,
+                                           prm->materials[0].bulk_modulus);
+    }
     UNROLL for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
 #if SPH_DIM == 1
     (void)x; /* a line has no angular momentum */
@@ -320,14 +340,22 @@ diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *re
                                                   DIAG_ENERGY_ARG, DIAG_WALL_ARG, c));
 }
 #    else
+/* TLSPH: the deformation gradient for its strain energy */
+#        if SPH_HAS_TLSPH
+#            define DIAG_DEFGRAD_PARAM , GLOBAL const real *restrict defgrad
+#            define DIAG_DEFGRAD_ARG   defgrad
+#        else
+#            define DIAG_DEFGRAD_PARAM
+#            define DIAG_DEFGRAD_ARG 0
+#        endif
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                    GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
-                   GLOBAL real *restrict partials) {
+                   GLOBAL real *restrict partials DIAG_DEFGRAD_PARAM) {
     REDUCE_SCRATCH;
     REDUCE_PARTICLES(0, DIAG_NCOMP, DIAG_NCOMP,
-                     diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, c));
+                     diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, DIAG_DEFGRAD_ARG, c));
 }
 #    endif
 

@@ -25,6 +25,11 @@
 /* 004 §3.1: extended Eulerian SPH for fluids, fixed particles (eulerian_step.cl) */
 #define FORMULATION_EULERIAN_WC           7 /* weakly compressible, linearised Riemann solver */
 #define FORMULATION_EULERIAN_COMPRESSIBLE 8 /* ideal gas, HLLC, energy equation */
+/* The elastic law of TLSPH (materials.X.model; device/tl_step.cl).  The
+ * updated-Lagrangian formulations are hypoelastic (Jaumann rate). */
+#define ELASTIC_MODEL_SVK         0 /* Saint Venant-Kirchhoff, 004 eq. 24 (the default) */
+#define ELASTIC_MODEL_NEO_HOOKEAN 1 /* compressible neo-Hookean (Bonet & Wood; 002) */
+#define ELASTIC_MODEL_EXPONENTIAL 2 /* isotropic exponential (the public code's column) */
 /* What a formulation computes (f: a FORMULATION_* value). */
 #define FORM_IS_ENOG(f)        ((f) == FORMULATION_ENOG || (f) == FORMULATION_ENOG_A)
 #define FORM_HAS_STRESS_DIV(f) ((f) >= FORMULATION_OG && (f) <= FORMULATION_GNOG_A)

@@ -40,7 +40,8 @@
     X(S, T, REAL, yield, 1, "J2 initial yield stress sigma_Y (003 eq. 11)")                        \
     X(S, T, REAL, hardening, 1, "J2 linear isotropic hardening modulus kappa")                     \
     X(S, T, REAL, viscosity, 1, "fluids: dynamic viscosity mu (004 eq. 13)")                       \
-    X(S, T, REAL, gamma, 1, "compressible fluids: ratio of specific heats (004 eq. 11)")
+    X(S, T, REAL, gamma, 1, "compressible fluids: ratio of specific heats (004 eq. 11)")           \
+    X(S, T, REAL, exponential_b, 1, "TLSPH exponential model: stiffening exponent b")
 
 /* A kinematic constraint (device/sph_constraints.h): along the axes of its
  * mask the velocity is the prescribed one (0 for a clamp or a roller). */
@@ -54,9 +55,10 @@
     X(S, T, REALS, point, 3, "a point of the wall's plane")                                        \
     X(S, T, REALS, normal, 3, "unit normal into the solid")
 
-/* The block.  The last five ints select code paths the native backend
- * compiles into each variant and chooses between at run time (one variant
- * serves every kernel, rotation mode, body count and plasticity switch;
+/* The block.  Six ints (smoothing_kernel to elastic_model) select code
+ * paths the native backend compiles into each variant and chooses between
+ * at run time (one variant serves every kernel, rotation mode, body count,
+ * plasticity switch and elastic law;
  * host/cpu_kernel_tables.c); the OpenCL program has them as -D constants
  * (sph_prelude.h, RUNTIME_*) and never reads these fields. */
 #define SPH_PARAMS_FIELDS(X, S, T)                                                                 \
@@ -71,6 +73,7 @@
     X(S, T, REAL, art_n, 1, "OAS exponent n of f = W(r)/W(dp)")                                    \
     X(S, T, REAL, art_wdp, 1, "W(dp) of the kernel in use")                                        \
     X(S, T, REAL, hourglass, 1, "TLSPH hourglass-control coefficient alpha (002)")                 \
+    X(S, T, REAL, pair_damping, 1, "TLSPH pairwise damping coefficient (0: none)")                 \
     X(S, T, REAL, contact_impedance, 1, "contact impedance factor (x 1/2 rho0 c0, sph_contact.h)") \
     X(S, T, REAL, contact_penalty, 1, "contact penalty factor (x rho0 c0^2, sph_contact.h)")       \
     X(S, T, REALS, period, 3, "fluids: length of each periodic axis (0: not periodic)")            \
@@ -89,8 +92,8 @@
     X(S, T, INT, nbodies, 1, "native backend: number of bodies")                                   \
     X(S, T, INT, plastic, 1, "native backend: 1 for J2 plasticity")                                \
     X(S, T, INT, torque_projection, 1, "native backend: 1 for the torque projection")              \
-    X(S, T, INT, periodic_mask, 1, "fluids: bit a set: axis a is periodic (neighbour_build.cl)")   \
-    X(S, T, INT, reserved, 1, "0; keeps the number of ints even (no tail padding in double)")
+    X(S, T, INT, elastic_model, 1, "native backend: ELASTIC_MODEL_* of TLSPH")                     \
+    X(S, T, INT, periodic_mask, 1, "fluids: bit a set: axis a is periodic (neighbour_build.cl)")
 
 /* Declarations: S names the instance (f32, f64), T is its real type. */
 #define SPH_DECL_REAL(S, T, name, n)           T name;

@@ -15,6 +15,8 @@
  *   SPH_FORMULATION  FORMULATION_* (sph_constants.h); SPH_CPU_FORMULATION is
  *                    its counterpart in the native backend's C build
  *   SPH_PLASTIC      1 when the material follows J2 plasticity (003 eqs. 11-14)
+ *   SPH_ELASTIC_MODEL ELASTIC_MODEL_* (sph_constants.h): TLSPH's elastic law
+ *   SPH_TL_DAMPING   1 when TLSPH has the pairwise numerical damping
  *   SPH_ROTATION     ROTATION_* : how the accumulated shear acceleration turns
  *   SPH_TORQUE_PROJECTION 1: the accumulated ENOG shear acceleration is kept
  *                    free of net torque per body (sph_torque_projection.h)
@@ -82,6 +84,13 @@ typedef float real;
 #    define RUNTIME_NBODIES     SPH_NBODIES
 #    define RUNTIME_FORMULATION SPH_FORMULATION
 #    define RUNTIME_PLASTIC     SPH_PLASTIC
+#    ifndef SPH_ELASTIC_MODEL
+#        define SPH_ELASTIC_MODEL ELASTIC_MODEL_SVK
+#    endif
+#    ifndef SPH_TL_DAMPING
+#        define SPH_TL_DAMPING 0
+#    endif
+#    define RUNTIME_ELASTIC_MODEL SPH_ELASTIC_MODEL
 #    ifndef SPH_TORQUE_PROJECTION
 #        define SPH_TORQUE_PROJECTION 0
 #    endif
@@ -103,6 +112,10 @@ typedef float real;
 /* TLSPH with a J2 material: the finite-strain return map and the 002
  * hourglass switch (sph_plasticity.h, tl_step.cl) */
 #    define SPH_HAS_TL_PLASTICITY (SPH_HAS_TLSPH && SPH_PLASTIC)
+/* TLSPH with a hyperelastic law (neo-Hookean, exponential) and with the
+ * pairwise damping (tl_step.cl) */
+#    define SPH_HAS_HYPERELASTIC (SPH_HAS_TLSPH && SPH_ELASTIC_MODEL != ELASTIC_MODEL_SVK)
+#    define SPH_HAS_TL_DAMPING   (SPH_HAS_TLSPH && SPH_TL_DAMPING)
 /* separate bodies with contact between them (sph_contact.h) */
 #    define SPH_HAS_CONTACT SPH_CONTACT
 /* rigid walls (sph_wall.h) */
@@ -159,6 +172,7 @@ typedef float real;
 #    endif
 #    define RUNTIME_FORMULATION       SPH_CPU_FORMULATION
 #    define RUNTIME_PLASTIC           (prm->plastic)
+#    define RUNTIME_ELASTIC_MODEL     (prm->elastic_model)
 #    define RUNTIME_TORQUE_PROJECTION (prm->torque_projection)
 #    define SPH_HAS_ROTATION_AVG      1
 #    define SPH_HAS_BODY_IDS          1
@@ -171,6 +185,8 @@ typedef float real;
 #    define SPH_HAS_TORQUE_PROJECTION 1
 
 #    define SPH_HAS_TL_PLASTICITY 1
+#    define SPH_HAS_HYPERELASTIC  1
+#    define SPH_HAS_TL_DAMPING    1
 #    define SPH_HAS_CONTACT       1
 #    define SPH_HAS_WALLS         1
 #    ifndef SPH_HAS_CLAMP

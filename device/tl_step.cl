@@ -50,6 +50,22 @@
  * conserves linear and angular momentum; E is the material's Young's modulus
  * E = 9 K G / (3 K + G).
  *
+ * Hyperelastic laws (SPH_HAS_HYPERELASTIC: materials.X.model "neo-hookean"
+ * or "exponential"; tl_hyperelastic_pk1 below) replace SVK's P = F S in
+ * tl_deformation; an SVK program has none of their code.
+ *
+ * Pairwise numerical damping (SPH_HAS_TL_DAMPING: method.pairwise_damping
+ * c_d > 0; the public code's TLSPH first half step, which its bending
+ * column runs with c_d = 0.25; eulerian-sph-reference.md §5.4): a viscous
+ * pair stress along the bond's strain rate, added to the pair's P B terms,
+ *   m_i a_i += sum_j V0_i V0_j c_d (W(X_ij)/W(0)) 1/2 (F_i + F_j)
+ *              (1/2 rho0 c0 h eps_ij) grad0 W_ij,
+ *   eps_ij = (d / |X_ij|)^2 (x_ij . v_ij)
+ * with x_ij the half-step separation and v_ij = v_i - v_j.  The pair term
+ * is anti-symmetric (linear momentum is conserved), vanishes for a rigid
+ * translation or rotation (x_ij . v_ij = 0) and opposes a bond's stretching
+ * rate, so it only dissipates.
+ *
  * Plastic materials (SPH_HAS_TL_PLASTICITY: TLSPH and a yield_stress; none
  * of this is in the elastic program):
  *  - tl_deformation replaces SVK by the finite-strain J2 return map of
@@ -73,6 +89,7 @@
 #include "sph_elasticity.h"
 #include "sph_constraints.h"
 #include "sph_plasticity.h"
+#include "sph_hyperelastic.h"
 
 #if SPH_HAS_TLSPH
 
@@ -105,18 +122,6 @@ FN vec tl_half_separation(GLOBAL const hreal *restrict pos, GLOBAL const real *r
                           const int n, const int i, const int j, const real half_dt) {
     return vec_axpy(hvec_diff(pos, n, i, j), half_dt,
                     vec_sub(vec_load(vel, n, i), vec_load(vel, n, j)));
-}
-
-/* Saint Venant-Kirchhoff (004 eq. 24): P = F S, S = lambda tr(E) I + 2 mu E,
- * E = (F^T F - I)/2, lambda = K - 2G/3 also in 2D (plane strain, as 004;
- * host/feature_set.c). */
-FN mat tl_svk_pk1(const mat f, const real lambda, const real mu) {
-    mat e = mat_scale(mat_mul(mat_transpose(f), f), R(0.5));
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) e.m[a][a] -= R(0.5);
-    mat s = mat_scale(e, R(2) * mu);
-    const real tr = mat_trace(e);
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) s.m[a][a] += lambda * tr;
-    return mat_mul(f, s);
 }
 
 /* Young's modulus from the bulk and shear moduli of the parameter block. */
@@ -201,7 +206,12 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
     } else
 #    endif
     {
-        p = tl_svk_pk1(f, prm->materials[0].lambda, prm->materials[0].shear_modulus);
+#    if SPH_HAS_HYPERELASTIC
+        if (RUNTIME_ELASTIC_MODEL != ELASTIC_MODEL_SVK)
+            p = tl_hyperelastic_pk1(f, prm);
+        else
+#    endif
+            p = tl_svk_pk1(f, prm->materials[0].lambda, prm->materials[0].shear_modulus);
         sigma = mat_scale(mat_mul(p, mat_transpose(f)), R(1) / det);
     }
     mat_store(defgrad, n, i, f);
@@ -247,6 +257,13 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM
     const real hourglass_scale = R(0.5) * alpha * youngs;
 #    endif
 
+#    if SPH_HAS_TL_DAMPING
+    /* the pairwise damping of the header: its coefficient, 1/W(0), v_i */
+    const real damping = prm->pair_damping;
+    const real inv_w0 = damping > R(0) ? R(1) / kernel_w(prm, R(0)) : R(0);
+    const vec v_i = vec_load(vel, n, i);
+    vec sum_damp = vec_zero();
+#    endif
     /* sum_j (P_i B_i + P_j B_j) grad W V0_j = P_i B_i sum_j g_ij + sum_j P_j B_j g_ij */
     vec sum_g = vec_zero(), sum_j = vec_zero(), sum_hg = vec_zero();
     const int count = nbr_count[i];
@@ -257,6 +274,19 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM
         const vec g = vec_scale(e, pair_dwv[slot]);
         sum_g = vec_add(sum_g, g);
         sum_j = vec_add(sum_j, mat_vec(mat_load(pk1, n, j), mat_vec(sym_load(bmat, n, j), g)));
+#    if SPH_HAS_TL_DAMPING
+        if (damping > R(0)) {
+            /* (W_ij / W0) eps_ij (F_i + F_j) g_ij, W_ij from the stored
+             * W(X_ij) V0_j / X_ij^2 */
+            const real inv_r0 = pair_inv_r[slot];
+            const vec x_ij = tl_half_separation(pos, vel, n, i, j, half_dt);
+            const real rate = R(SPH_DIM * SPH_DIM) * inv_r0 * inv_r0 *
+                              vec_dot(x_ij, vec_sub(v_i, vec_load(vel, n, j)));
+            const real weight = pair_w[slot] / (inv_r0 * inv_r0 * vol[j]) * inv_w0;
+            sum_damp = vec_axpy(sum_damp, weight * rate,
+                                mat_vec(mat_add(f_i, mat_load(defgrad, n, j)), g));
+        }
+#    endif
         if (alpha > R(0)) {
             /* 002 hourglass control, pair term of the header */
             const real r0 = R(1) / pair_inv_r[slot];
@@ -285,7 +315,13 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM
         }
     }
     const mat pb_i = mat_mul(mat_load(pk1, n, i), sym_load(bmat, n, i));
-    const vec force = vec_add(mat_vec(pb_i, sum_g), sum_j); /* per V0_i */
+    vec force = vec_add(mat_vec(pb_i, sum_g), sum_j); /* per V0_i */
+#    if SPH_HAS_TL_DAMPING
+    /* c_d x 1/2 (F_i + F_j) x 1/2 rho0 c0 h eps_ij */
+    force =
+        vec_axpy(force, damping * R(0.25) * prm->materials[0].rho0 * prm->materials[0].c0 * prm->h,
+                 sum_damp);
+#    endif
     const real v_over_m = vol[i] / mass[i];
     vec acc = vec_scale(force, v_over_m);
     acc = vec_axpy(acc, hourglass_scale * v_over_m, sum_hg);

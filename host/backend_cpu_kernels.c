@@ -76,12 +76,13 @@ static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g, double geome
     int overflow = 0;
 #pragma omp parallel for schedule(static) if (b->parallel)
     for (int i = 0; i < n; ++i)
-        build_neighbours(
-            i, n, b->cap, (const sph_params *)b->prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
-            (real)geometry_shift, F_REAL(b, FIELD_VOL), g->dims[0], g->dims[1], g->dims[2],
-            (const ulong *)b->keys, b->cell_start, b->cell_end, b->nbr_count, b->nbr_j,
-            (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r, F_REAL(b, FIELD_BMAT),
-            &overflow, (real *)b->pair_w, F_U8(b, FIELD_BODY), F_INT(b, FIELD_CONTACT_COUNT));
+        build_neighbours(i, n, b->cap, (const sph_params *)b->prm, F_HREAL(b, FIELD_POS),
+                         F_REAL(b, FIELD_VEL), (real)geometry_shift, F_REAL(b, FIELD_VOL),
+                         g->dims[0], g->dims[1], g->dims[2], (const ulong *)b->keys, b->cell_start,
+                         b->cell_end, b->nbr_count, b->nbr_j, (real *)b->pair_e,
+                         (real *)b->pair_dwv, (real *)b->pair_inv_r, F_REAL(b, FIELD_BMAT),
+                         &overflow, (real *)b->pair_w, F_REAL(b, FIELD_DEFGRAD),
+                         F_U8(b, FIELD_BODY), F_INT(b, FIELD_CONTACT_COUNT));
     return overflow;
 }
 
@@ -391,7 +392,7 @@ static void diagnostics_impl(cpu_buffers *b, double *out) {
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
                  diagnostics_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                                      F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO),
-                                     F_HREAL(b, FIELD_TAU), c));
+                                     F_HREAL(b, FIELD_TAU), F_REAL(b, FIELD_DEFGRAD), c));
 #endif
     for (int k = 0; k < DIAG_NCOMP; ++k) out[k] = (double)result[k];
 }

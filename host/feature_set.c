@@ -25,8 +25,12 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
                    !SPH_FORMULATION_IS_EULERIAN(scene->formulation);
     out->walls = scene->nwalls;
     out->torque_projection = scene->torque_projection;
-    for (int b = 0; b < scene->nbodies; ++b)
-        if (scene->materials[scene->bodies[b].material].plastic) out->plastic = true;
+    for (int b = 0; b < scene->nbodies; ++b) {
+        const sph_material *m = &scene->materials[scene->bodies[b].material];
+        if (m->plastic) out->plastic = true;
+        if (scene->formulation == SPH_FORMULATION_TLSPH) out->elastic_model = m->elastic_model;
+    }
+    out->tl_damping = scene->formulation == SPH_FORMULATION_TLSPH && scene->pairwise_damping > 0;
     if (SPH_FORMULATION_IS_EULERIAN(scene->formulation)) {
         for (int b = 0; b < scene->nbodies; ++b)
             if (scene->bodies[b].role == SPH_BODY_WALL) out->fluid_walls = true;
@@ -56,12 +60,15 @@ bool sph_history_double(const sph_features *f) {
 
 void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
                                 bool nbr_row_major, bool pair_recompute, char *buf, size_t len) {
+    char elastic_model[32] = ""; /* Saint Venant-Kirchhoff: the default */
+    if (f->elastic_model != ELASTIC_MODEL_SVK)
+        snprintf(elastic_model, sizeof elastic_model, " -DSPH_ELASTIC_MODEL=%d", f->elastic_model);
     snprintf(buf, len,
              "-DSPH_DIM=%d -DSPH_DOUBLE=%d -DSPH_MIXED=%d -DSPH_KERNEL=%d -DSPH_FORMULATION=%d "
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
              "-DSPH_TORQUE_PROJECTION=%d -DSPH_WG=%d "
-             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s%s",
+             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s%s%s%s",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
              f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
@@ -72,7 +79,9 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              /* fluids: walls and far field (device/sph_prelude.h) */
              f->fluid_kinds ? " -DSPH_FLUID_KINDS=1" : "",
              f->fluid_walls ? " -DSPH_FLUID_WALLS=1" : "", f->far_field ? " -DSPH_FAR_FIELD=1" : "",
-             f->fluid_rk2 ? " -DSPH_FLUID_RK2=1" : "");
+             f->fluid_rk2 ? " -DSPH_FLUID_RK2=1" : "",
+             /* TLSPH: a hyperelastic law, the pairwise damping (tl_step.cl) */
+             elastic_model, f->tl_damping ? " -DSPH_TL_DAMPING=1" : "");
 }
 
 int sph_substep_ncomp(const sph_features *f) {
@@ -134,6 +143,7 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     prm->art_eps = scene->art_epsilon;
     prm->art_n = scene->art_exponent;
     prm->hourglass = scene->hourglass_alpha;
+    prm->pair_damping = f->tl_damping ? scene->pairwise_damping : 0.0;
     /* contact between bodies (device/sph_contact.h) */
     prm->contact_impedance = scene->contact_impedance;
     prm->contact_penalty = scene->contact_penalty;
@@ -152,6 +162,7 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     row->lambda = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
     row->yield = m->yield_stress;
     row->hardening = m->hardening_modulus;
+    row->exponential_b = m->exponential_b;
     /* fluids (device/eulerian_step.cl) */
     row->viscosity = m->viscosity;
     row->gamma = m->gamma;
@@ -187,6 +198,7 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     prm->nbodies = f->nbodies;
     prm->plastic = f->plastic ? 1 : 0;
     prm->torque_projection = f->torque_projection ? 1 : 0;
+    prm->elastic_model = f->elastic_model;
     /* W(dp) normalises the artificial-stress weight f = W(r)/W(dp) */
     prm->art_wdp = cpu_kernels_for(f->dim, true)->kernel_w(prm, scene->dp);
     return SPH_OK;

@@ -32,6 +32,10 @@ typedef struct {
     sph_stepping stepping;
     bool has_clamp;
     bool plastic; /* J2 plasticity (003 eqs. 11-14; TLSPH: finite strain, sph_plasticity.h) */
+    /* TLSPH: the elastic law (ELASTIC_MODEL_*, materials.X.model) and the
+     * pairwise numerical damping (method.pairwise_damping > 0) */
+    int elastic_model;
+    bool tl_damping;
     int nbodies;
     /* several bodies that do not merge: same-body neighbour lists and the
      * contact force between bodies (device/sph_contact.h); not TLSPH */

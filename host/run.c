@@ -344,8 +344,13 @@ static json_object *summary_json(const sph_simulation *sim) {
                            sph_json_string(sph_formulation_name(f->formulation)));
     json_object_object_add(features, "rotation", sph_json_string(sph_rotation_name(f->rotation)));
     json_object_object_add(features, "kernel", sph_json_string(sph_kernel_name(f->kernel)));
-    json_object_object_add(features, "material_model",
-                           sph_json_string(f->plastic ? "j2-plastic" : "elastic"));
+    json_object_object_add(
+        features, "material_model",
+        sph_json_string(f->plastic                                      ? "j2-plastic"
+                        : f->elastic_model == ELASTIC_MODEL_NEO_HOOKEAN ? "neo-hookean"
+                        : f->elastic_model == ELASTIC_MODEL_EXPONENTIAL ? "exponential"
+                                                                        : "elastic"));
+    json_object_object_add(features, "pairwise_damping", json_object_new_boolean(f->tl_damping));
     json_object_object_add(features, "clamp", json_object_new_boolean(f->has_clamp));
     json_object_object_add(features, "torque_projection",
                            json_object_new_boolean(f->torque_projection));

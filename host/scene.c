@@ -1029,11 +1029,11 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g, *rot_at;
     sph_status st = get_group(L, root, "method", true, &g);
-    if (st ||
-        (st = check_keys(L, g,
-                         KEYS("formulation", "rotation", "torque_projection", "kernel",
-                              "smoothing_ratio", "xi_e", "xi_g", "riemann_limiter",
-                              "viscous_regularization", "artificial_stress", "hourglass_alpha"))))
+    if (st || (st = check_keys(L, g,
+                               KEYS("formulation", "rotation", "torque_projection", "kernel",
+                                    "smoothing_ratio", "xi_e", "xi_g", "riemann_limiter",
+                                    "viscous_regularization", "artificial_stress",
+                                    "hourglass_alpha", "pairwise_damping"))))
         return st;
     int formulation = 0, rotation = 0, kernel = 0;
     const config_setting_t *form_at;
@@ -1046,8 +1046,9 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
     if (eulerian) {
         /* seed 004 §3.1: a fluid has no shear stress, so the coefficients of
          * the solid formulations' shear and hourglass terms mean nothing */
-        static const char *const solid_keys[] = {"torque_projection", "xi_e", "xi_g",
-                                                 "artificial_stress", "hourglass_alpha"};
+        static const char *const solid_keys[] = {
+            "torque_projection", "xi_e", "xi_g", "artificial_stress", "hourglass_alpha",
+            "pairwise_damping"};
         for (size_t k = 0; k < sizeof solid_keys / sizeof solid_keys[0]; ++k) {
             const config_setting_t *m = config_setting_get_member(g, solid_keys[k]);
             if (m)
@@ -1136,6 +1137,18 @@ static sph_status parse_method(loader *L, const config_setting_t *root) {
      * T_W); see docs/scene-format.md */
     if ((st = get_float(L, g, "hourglass_alpha", false, 0.1, 0, false, 100, false,
                         &sc->hourglass_alpha)))
+        return st;
+    /* TLSPH's pairwise numerical damping (device/tl_step.cl): 0 by default,
+     * the elastic TLSPH of 004 as printed; the public code's TLSPH runs
+     * c_d = 0.25 (eulerian-sph-reference.md §5.4) */
+    const config_setting_t *damping_at = config_setting_get_member(g, "pairwise_damping");
+    if (damping_at && formulation != SPH_FORMULATION_TLSPH)
+        return fail_at(L, damping_at, NULL,
+                       "is the pairwise damping of \"tlsph\" (total-Lagrangian SPH); "
+                       "formulation \"%s\" has none",
+                       FORMULATION_NAMES[formulation]);
+    if ((st = get_float(L, g, "pairwise_damping", false, 0.0, 0, false, 10, false,
+                        &sc->pairwise_damping)))
         return st;
     /* The limiter slope eta of beta = min(eta max(u_l - u_r, 0) / c, 1):
      * 0 (unlimited) for the solids; for the fluids the seed's values,
@@ -1257,7 +1270,8 @@ static sph_status parse_time(loader *L, const config_setting_t *root) {
 static sph_status parse_fluid_material(loader *L, const config_setting_t *m, sph_material *mat) {
     const sph_formulation f = L->scene->formulation;
     const char *fname = sph_formulation_name(f);
-    static const char *const solid_only[] = {"poisson_ratio", "yield_stress", "hardening_modulus"};
+    static const char *const solid_only[] = {"poisson_ratio", "yield_stress", "hardening_modulus",
+                                             "model", "exponential_b"};
     for (size_t k = 0; k < sizeof solid_only / sizeof solid_only[0]; ++k) {
         const config_setting_t *s = config_setting_get_member(m, solid_only[k]);
         if (s)
@@ -1313,6 +1327,34 @@ static sph_status parse_fluid_material(loader *L, const config_setting_t *m, sph
     return SPH_OK;
 }
 
+/* TLSPH's elastic law (device/tl_step.cl): `model`, and the exponential
+ * law's stiffening exponent `exponential_b` (1 by default, the public
+ * code's bending column; eulerian-sph-reference.md §5.4).  Which
+ * formulations take it is checked with the formulation (check_material_model). */
+static sph_status parse_elastic_model(loader *L, const config_setting_t *m, sph_material *mat) {
+    static const char *const names[] = {"saint-venant-kirchhoff", "neo-hookean", "exponential"};
+    _Static_assert(ELASTIC_MODEL_SVK == 0 && ELASTIC_MODEL_NEO_HOOKEAN == 1 &&
+                       ELASTIC_MODEL_EXPONENTIAL == 2,
+                   "names[] follows ELASTIC_MODEL_*");
+    const config_setting_t *model_at;
+    sph_status st = get_keyword(L, m, "model", false, ELASTIC_MODEL_SVK, names, 3,
+                                &mat->elastic_model, &model_at);
+    if (st) return st;
+    if (mat->plastic && model_at && mat->elastic_model != ELASTIC_MODEL_SVK)
+        return fail_at(L, model_at, NULL,
+                       "material '%s' is J2-plastic (it has a yield_stress), whose elastic range "
+                       "is Hencky's (device/sph_plasticity.h); model \"%s\" is for elastic "
+                       "materials",
+                       m->name, names[mat->elastic_model]);
+    const config_setting_t *b_at = config_setting_get_member(m, "exponential_b");
+    if (b_at && mat->elastic_model != ELASTIC_MODEL_EXPONENTIAL)
+        return fail_at(L, b_at, NULL,
+                       "is the stiffening exponent of model \"exponential\"; material '%s' has "
+                       "model \"%s\"",
+                       m->name, names[mat->elastic_model]);
+    return get_float(L, m, "exponential_b", false, 1.0, 0, true, 100, false, &mat->exponential_b);
+}
+
 static sph_status parse_materials(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *g;
@@ -1339,7 +1381,8 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
         if (!sph_name_check(m->name, why, sizeof why)) return fail_at(L, m, NULL, "%s", why);
         if ((st = check_keys(L, m,
                              KEYS("density", "youngs_modulus", "poisson_ratio", "sound_speed",
-                                  "yield_stress", "hardening_modulus", "viscosity", "gamma"))))
+                                  "yield_stress", "hardening_modulus", "model", "exponential_b",
+                                  "viscosity", "gamma"))))
             return st;
         snprintf(mat->name, sizeof mat->name, "%s", m->name);
         /* a material without youngs_modulus is a fluid: the eulerian
@@ -1388,6 +1431,7 @@ static sph_status parse_materials(loader *L, const config_setting_t *root) {
         if (!mat->plastic && config_setting_get_member(m, "hardening_modulus"))
             return fail_at(L, config_setting_get_member(m, "hardening_modulus"), NULL,
                            "a hardening modulus needs a yield_stress (J2 plasticity)");
+        if ((st = parse_elastic_model(L, m, mat))) return st;
         double E = mat->youngs_modulus, nu = mat->poisson_ratio;
         mat->bulk_modulus = E / (3.0 * (1.0 - 2.0 * nu));
         mat->shear_modulus = E / (2.0 * (1.0 + nu));
@@ -2436,6 +2480,16 @@ static sph_status check_material_model(loader *L, const config_setting_t *root) 
             plastic = true;
             plastic_material = m->name;
         }
+    }
+    for (int b = 0; b < sc->nbodies; ++b) {
+        const sph_material *m = &sc->materials[sc->bodies[b].material];
+        if (m->elastic_model != ELASTIC_MODEL_SVK && sc->formulation != SPH_FORMULATION_TLSPH)
+            return fail_at(L, form_at, NULL,
+                           "material '%s' has a hyperelastic model (neo-Hookean or "
+                           "exponential), which \"tlsph\" implements; formulation \"%s\" is "
+                           "hypoelastic (Jaumann stress rate): use \"tlsph\", or leave the "
+                           "material's model out",
+                           m->name, sph_formulation_name(sc->formulation));
     }
     if (plastic && FORM_IS_ENOG(sc->formulation))
         return fail_at(L, form_at, NULL,

@@ -139,6 +139,11 @@ typedef struct {
      * yield_stress is given */
     bool plastic;
     double yield_stress, hardening_modulus;
+    /* TLSPH's elastic law (`model`): ELASTIC_MODEL_* of device/sph_constants.h
+     * (Saint Venant-Kirchhoff, neo-Hookean, exponential) and the exponential
+     * law's stiffening exponent b (device/tl_step.cl) */
+    int elastic_model;
+    double exponential_b;
     /* fluids (the eulerian formulations): `fluid` when the material has no
      * youngs_modulus; density is rho0 (WC: p = c0^2 (rho - rho0) with
      * c0 = sound_speed), viscosity the dynamic viscosity mu (eq. 13, 0: none),
@@ -269,6 +274,7 @@ typedef struct {
     double xi_g;                      /* GNOG: 4.0 elastic, 0.2 plastic; GNOG-A: 2.0 */
     double art_epsilon, art_exponent; /* OAS artificial stress: 0.3, 4 */
     double hourglass_alpha;           /* TLSPH hourglass control (002) */
+    double pairwise_damping;          /* TLSPH pairwise numerical damping c_d (0: none) */
     double riemann_limiter_slope;     /* 0: unlimited dissipation */
     sph_viscous_regularization viscous_regularization; /* fluids */
     sph_fluid_integrator fluid_integrator;             /* fluids: time.integrator */

@@ -60,6 +60,9 @@
  * one with HOURGLASS_ALPHA measured 15.7 (native backend); the bound keeps a
  * factor 3 of margin and still means "much smaller" */
 #define HOURGLASS_RATIO 5.0
+/* the exponential law's b in the patch tests: 2, so that a b wrongly taken
+ * as 1 (the column's) would show */
+#define EXPONENTIAL_B 2.0
 
 /* P = F S, S = lambda tr(E) I + 2 mu E, E = (F^T F - I)/2 (2D, row-major). */
 static void svk_pk1(const double f[4], double lambda, double mu, double p[4]) {
@@ -79,14 +82,41 @@ static void svk_pk1(const double f[4], double lambda, double mu, double p[4]) {
         for (int b = 0; b < 2; ++b) p[a * 2 + b] = f[a * 2] * s[b] + f[a * 2 + 1] * s[2 + b];
 }
 
+/* The hyperelastic laws of device/tl_step.cl in 2D plane strain (C_zz = 1),
+ * written from their strain energies (docs/method.md, "TLSPH"):
+ * neo-Hookean S = mu (I - C^-1) + lambda ln J C^-1 (Bonet & Wood), and
+ * the exponential law S = a exp(b (I1 - 3)) I + (lambda (J - 1) - a) J C^-1,
+ * I1 = tr C + 1, a = mu.  P = F S (row-major 2 x 2). */
+static void hyperelastic_pk1(int model, const double f[4], double lambda, double mu, double b,
+                             double p[4]) {
+    double c[4];
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) c[i * 2 + j] = f[i] * f[j] + f[2 + i] * f[2 + j];
+    const double det_c = c[0] * c[3] - c[1] * c[2];
+    const double c_inv[4] = {c[3] / det_c, -c[1] / det_c, -c[2] / det_c, c[0] / det_c};
+    const double jac = f[0] * f[3] - f[1] * f[2];
+    double s[4];
+    for (int k = 0; k < 4; ++k) {
+        const double id = (k == 0 || k == 3) ? 1.0 : 0.0;
+        if (model == ELASTIC_MODEL_NEO_HOOKEAN)
+            s[k] = mu * (id - c_inv[k]) + lambda * log(jac) * c_inv[k];
+        else
+            s[k] = mu * exp(b * (c[0] + c[3] + 1.0 - 3.0)) * id +
+                   (lambda * (jac - 1.0) - mu) * jac * c_inv[k];
+    }
+    for (int a = 0; a < 2; ++a)
+        for (int k = 0; k < 2; ++k) p[a * 2 + k] = f[a * 2] * s[k] + f[a * 2 + 1] * s[2 + k];
+}
+
 /* A PATCH_N x PATCH_N lattice (dp = 0.01 m, the plate's material) whose
  * reference configuration is built at rest, then mapped by x = c + F0 (X - c)
  * (c the centre); returns the backend, the particles and the slot ids.
  * `plastic` = {yield stress, hardening modulus} makes the material J2-plastic
  * (NULL: elastic). */
-static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const double f0[4],
-                                  const double *plastic, sph_particles *p, sph_params_f64 *prm,
-                                  int32_t *id, sph_error *err) {
+static sph_backend *patch_backend_law(sph_backend_kind kind, double alpha, const double f0[4],
+                                      const double *plastic, int elastic_model, double damping,
+                                      sph_particles *p, sph_params_f64 *prm, int32_t *id,
+                                      sph_error *err) {
     const int n = PATCH_N * PATCH_N, d = 2;
     const double dp = 0.01;
     if (test_particles_alloc(p, n, d, 1000.0, dp) != 0) {
@@ -104,6 +134,10 @@ static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const dou
     prm->materials[0].lambda = prm->materials[0].bulk_modulus -
                                prm->materials[0].shear_modulus; /* the 2D in-plane model */
     prm->hourglass = alpha;
+    f.elastic_model = prm->elastic_model = elastic_model;
+    prm->materials[0].exponential_b = EXPONENTIAL_B;
+    f.tl_damping = damping > 0;
+    prm->pair_damping = damping;
     if (plastic) {
         f.plastic = true;
         prm->plastic = 1;
@@ -131,6 +165,12 @@ static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const dou
         be = NULL;
     }
     return be;
+}
+
+static sph_backend *patch_backend(sph_backend_kind kind, double alpha, const double f0[4],
+                                  const double *plastic, sph_particles *p, sph_params_f64 *prm,
+                                  int32_t *id, sph_error *err) {
+    return patch_backend_law(kind, alpha, f0, plastic, ELASTIC_MODEL_SVK, 0.0, p, prm, id, err);
 }
 
 static void patch_test(test_counts *t, sph_backend_kind kind) {
@@ -676,6 +716,187 @@ static void plastic_plate(test_counts *t, sph_backend_kind kind) {
     sph_simulation_close(&hi);
 }
 
+/* 7. The hyperelastic laws (materials.X.model) on the patch mapped by a
+ * large uniform deformation (30 % stretch, 15 % compression, shear): on the
+ * interior P equals the law's closed form (hyperelastic_pk1) to 1e-12
+ * relative, a law that differs from Saint Venant-Kirchhoff's there by more
+ * than 5 %, and the deep particles feel no force. */
+static void hyperelastic_patch(test_counts *t, sph_backend_kind kind, int model) {
+    const int n = PATCH_N * PATCH_N;
+    const double f0[4] = {1.3, 0.2, -0.1, 0.85};
+    const char *name = model == ELASTIC_MODEL_NEO_HOOKEAN ? "neo-Hookean" : "exponential";
+    sph_particles p = {0};
+    sph_params_f64 prm[1];
+    int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
+    double *pk1 = malloc(sizeof(double) * (size_t)(4 * n));
+    double *acc = malloc(sizeof(double) * (size_t)(2 * n));
+    sph_error err = {0};
+    sph_backend *be = patch_backend_law(kind, 0.0, f0, NULL, model, 0.0, &p, prm, id, &err);
+    sph_status st = be && id && pk1 && acc ? SPH_OK : SPH_ERR_RUNTIME;
+    double v2 = 0.0;
+    if (!st) st = be->ops->substep(be, 1e-7, &v2, &err);
+    if (!st) st = be->ops->download(be, FIELD_PK1, pk1, &err);
+    if (!st) st = be->ops->download(be, FIELD_ACC_SHEAR, acc, &err);
+    CHECK(t, st == SPH_OK, "%s patch: %s", name, err.msg);
+    if (!st) {
+        const double lambda = prm->materials[0].lambda, mu = prm->materials[0].shear_modulus;
+        double p_law[4], p_svk[4], p_max = 0.0, law_svk = 0.0, p_err = 0.0, a_edge = 0.0,
+                                   a_deep = 0.0;
+        hyperelastic_pk1(model, f0, lambda, mu, EXPONENTIAL_B, p_law);
+        svk_pk1(f0, lambda, mu, p_svk);
+        for (int k = 0; k < 4; ++k) {
+            p_max = fmax(p_max, fabs(p_law[k]));
+            law_svk = fmax(law_svk, fabs(p_law[k] - p_svk[k]));
+        }
+        const double dp = prm->dp;
+        for (int i = 0; i < n; ++i) {
+            const double gx = p.pos[id[i]] / dp - 0.5, gy = p.pos[n + id[i]] / dp - 0.5;
+            const double edge = fmin(fmin(gx, gy), fmin(PATCH_N - 1 - gx, PATCH_N - 1 - gy));
+            const double a = hypot(acc[i], acc[n + i]);
+            a_edge = fmax(a_edge, a);
+            if (edge >= 2.6)
+                for (int k = 0; k < 4; ++k) p_err = fmax(p_err, fabs(pk1[k * n + i] - p_law[k]));
+            if (edge >= 5.2) a_deep = fmax(a_deep, a);
+        }
+        printf("%s patch (%s): max |P - P_law| / |P| %.3g (the law differs from SVK by %.3g); "
+               "deep max |a| %.3g of the edge's %.3g\n",
+               name, be->kind_name, p_err / p_max, law_svk / p_max, a_deep, a_edge);
+        CHECK(t, p_err <= 1e-12 * p_max, "%s: P error %.3g of %.3g", name, p_err, p_max);
+        CHECK(t, law_svk >= 0.05 * p_max, "%s: the law is SVK's here (%.3g of %.3g)", name, law_svk,
+              p_max);
+        CHECK(t, a_deep <= 1e-9 * a_edge, "%s: deep acceleration %.3g, edge %.3g", name, a_deep,
+              a_edge);
+    }
+    if (be) sph_backend_destroy(be);
+    sph_particles_free(&p);
+    free(id);
+    free(pk1);
+    free(acc);
+}
+
+/* the damping patch's substep, s */
+#define DAMPING_PATCH_DT 1e-10
+
+/* The acceleration of the patch at F = I with velocity field `field` (0: a
+ * uniform expansion v = rate (x - c), 1: a rigid rotation v = rate e_z x
+ * (x - c)), after one substep of DAMPING_PATCH_DT (the half-step
+ * positions barely move), with pairwise damping c_d.
+ * acc (2n, slot order) and id (n) are filled; returns the status. */
+static sph_status damping_patch_run(sph_backend_kind kind, double damping, int field, double rate,
+                                    sph_particles *p, sph_params_f64 *prm, int32_t *id, double *acc,
+                                    sph_error *err) {
+    const int n = PATCH_N * PATCH_N;
+    const double f0[4] = {1.0, 0.0, 0.0, 1.0};
+    sph_backend *be =
+        patch_backend_law(kind, 0.0, f0, NULL, ELASTIC_MODEL_SVK, damping, p, prm, id, err);
+    if (!be) return SPH_ERR_RUNTIME;
+    double *vel = malloc(sizeof(double) * (size_t)(2 * n));
+    sph_status st = vel ? SPH_OK : sph_fail(err, SPH_ERR_RUNTIME, "out of memory");
+    const double c = 0.5 * PATCH_N * prm->dp;
+    for (int i = 0; !st && i < n; ++i) {
+        const double dx = p->pos[id[i]] - c, dy = p->pos[n + id[i]] - c;
+        vel[i] = field == 0 ? rate * dx : -rate * dy;
+        vel[n + i] = field == 0 ? rate * dy : rate * dx;
+    }
+    double v2 = 0.0;
+    if (!st) st = be->ops->upload_field(be, FIELD_VEL, vel, err);
+    if (!st) st = be->ops->substep(be, DAMPING_PATCH_DT, &v2, err);
+    if (!st) st = be->ops->download(be, FIELD_ACC_SHEAR, acc, err);
+    free(vel);
+    sph_backend_destroy(be);
+    return st;
+}
+
+/* 8. TLSPH's pairwise damping (method.pairwise_damping, tl_step.cl) on the
+ * patch at F = I: under a uniform expansion v = rate (x - c) every pair's
+ * eps_ij = d^2 rate, so particle i's damping acceleration (the run with
+ * damping minus the one without) is
+ *   a_i = c_d 1/2 c0 h d^2 rate sum_j (W_ij / W(0)) dW_ij V0_j e_ij,
+ * recomputed here from the kernel for a corner particle and an edge
+ * particle (1e-12 relative); it vanishes on the deep particles, conserves
+ * momentum (1e-12 of sum m |a|) and takes energy out (sum m a.v < 0).  A
+ * rigid rotation at the same rate is not damped: its damping acceleration is
+ * below 1e-6 of the expansion's. */
+static void damping_patch(test_counts *t, sph_backend_kind kind) {
+    const int n = PATCH_N * PATCH_N;
+    const double cd = 0.25, rate = 10.0; /* 1/s */
+    sph_particles p0 = {0}, p1 = {0}, p2 = {0}, p3 = {0};
+    sph_params_f64 prm[1];
+    int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
+    double *a_on = malloc(sizeof(double) * (size_t)(2 * n));
+    double *a_off = malloc(sizeof(double) * (size_t)(2 * n));
+    double *r_on = malloc(sizeof(double) * (size_t)(2 * n));
+    double *r_off = malloc(sizeof(double) * (size_t)(2 * n));
+    sph_error err = {0};
+    sph_status st = id && a_on && a_off && r_on && r_off ? SPH_OK : SPH_ERR_RUNTIME;
+    if (!st) st = damping_patch_run(kind, cd, 0, rate, &p0, prm, id, a_on, &err);
+    if (!st) st = damping_patch_run(kind, 0.0, 0, rate, &p1, prm, id, a_off, &err);
+    if (!st) st = damping_patch_run(kind, cd, 1, rate, &p2, prm, id, r_on, &err);
+    if (!st) st = damping_patch_run(kind, 0.0, 1, rate, &p3, prm, id, r_off, &err);
+    CHECK(t, st == SPH_OK, "damping patch: %s", err.msg);
+    if (!st) {
+        const double dp = prm->dp, c = 0.5 * PATCH_N * dp, rho0 = prm->materials[0].rho0;
+        const double mass = rho0 * dp * dp;
+        const cpu_kernels *k = cpu_kernels_for(2, true);
+        const double w0 = k->kernel_w(prm, 0.0);
+        /* the substep's half-step positions x + dt/2 v = (1 + dt/2 rate) x
+         * scale both x_ij . v_ij and F = (1 + dt/2 rate) I */
+        const double half = 1.0 + 0.5 * DAMPING_PATCH_DT * rate;
+        const double scale = cd * 0.5 * prm->materials[0].c0 * prm->h * 4.0 * rate * half * half;
+        double mom[2] = {0, 0}, mag = 0.0, power = 0.0, a_deep = 0.0, a_max = 0.0, r_max = 0.0,
+               formula_err = 0.0;
+        int checked = 0;
+        for (int i = 0; i < n; ++i) {
+            const double ax = a_on[i] - a_off[i], ay = a_on[n + i] - a_off[n + i];
+            const double xi = p0.pos[id[i]], yi = p0.pos[n + id[i]];
+            mom[0] += mass * ax;
+            mom[1] += mass * ay;
+            mag += mass * hypot(ax, ay);
+            power += mass * (ax * rate * (xi - c) + ay * rate * (yi - c));
+            a_max = fmax(a_max, hypot(ax, ay));
+            r_max = fmax(r_max, hypot(r_on[i] - r_off[i], r_on[n + i] - r_off[n + i]));
+            const double gx = xi / dp - 0.5, gy = yi / dp - 0.5;
+            const double edge = fmin(fmin(gx, gy), fmin(PATCH_N - 1 - gx, PATCH_N - 1 - gy));
+            if (edge >= 2.6) a_deep = fmax(a_deep, hypot(ax, ay));
+            /* the corner (0, 0) and the edge particle (0, 10) */
+            const bool probe = (gx < 0.5 && gy < 0.5) || (gx < 0.5 && fabs(gy - 10) < 0.5);
+            if (!probe) continue;
+            double sum[2] = {0, 0};
+            for (int j = 0; j < n; ++j) {
+                const double dx = xi - p0.pos[id[j]], dy = yi - p0.pos[n + id[j]];
+                const double r = hypot(dx, dy);
+                if (j == i || r >= prm->cutoff) continue;
+                const double g = k->kernel_w(prm, r) / w0 * k->kernel_dw(prm, r) * dp * dp / r;
+                sum[0] += g * dx;
+                sum[1] += g * dy;
+            }
+            const double ex = scale * sum[0], ey = scale * sum[1];
+            formula_err = fmax(formula_err, hypot(ax - ex, ay - ey) / hypot(ex, ey));
+            ++checked;
+        }
+        printf("damping patch (%s): expansion: probes against the formula %.3g (%d), deep |a| "
+               "%.3g of %.3g, |sum m a| %.3g of %.3g, power %.4g W/m; rotation: max |a| %.3g\n",
+               kind == SPH_BACKEND_CPU ? "cpu" : "opencl", formula_err, checked, a_deep, a_max,
+               hypot(mom[0], mom[1]), mag, power, r_max);
+        CHECK(t, checked == 2 && formula_err <= 1e-12, "damping formula: %.3g (%d probes)",
+              formula_err, checked);
+        CHECK(t, a_max > 0 && a_deep <= 1e-9 * a_max, "deep damping %.3g of %.3g", a_deep, a_max);
+        CHECK(t, hypot(mom[0], mom[1]) <= 1e-12 * mag, "damping momentum %.3g of %.3g",
+              hypot(mom[0], mom[1]), mag);
+        CHECK(t, power < 0, "damping power %.4g, not negative", power);
+        CHECK(t, r_max <= 1e-6 * a_max, "rigid rotation damped: %.3g of %.3g", r_max, a_max);
+    }
+    sph_particles_free(&p0);
+    sph_particles_free(&p1);
+    sph_particles_free(&p2);
+    sph_particles_free(&p3);
+    free(id);
+    free(a_on);
+    free(a_off);
+    free(r_on);
+    free(r_off);
+}
+
 int main(int argc, char **argv) {
     test_counts t = {0};
     const sph_backend_kind kind = test_backend_kind(argc, argv);
@@ -696,6 +917,9 @@ int main(int argc, char **argv) {
 
     hourglass_switch(&t, kind);
     plastic_plate(&t, kind);
+    hyperelastic_patch(&t, kind, ELASTIC_MODEL_NEO_HOOKEAN);
+    hyperelastic_patch(&t, kind, ELASTIC_MODEL_EXPONENTIAL);
+    damping_patch(&t, kind);
 
     const double t_theory = 0.25406; /* 004 eq. 33, nu = 0.3975 */
     const bool full = !test_sanitized();
