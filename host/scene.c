@@ -13,11 +13,14 @@
  */
 #include "scene.h"
 
+#include "mesh.h"
+
 #include "sph_constants.h"
 
 #include <libconfig.h>
 
 #include <errno.h>
+#include <sys/stat.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -1583,6 +1586,58 @@ static sph_status parse_round_shape(loader *L, const config_setting_t *s,
     return SPH_OK;
 }
 
+/* Mesh files a scene may name: regular files (not a device or a pipe, which
+ * could stream forever) of at most this size. */
+#define SPH_MESH_MAX_FILE_BYTES (1L << 30)
+
+/* type = "mesh": file (relative to the scene file's directory), scale,
+ * rotate (degrees about x, y, z, in that order), translate; read and
+ * checked now (host/mesh.c), so that a bad mesh is an error at its key. */
+static sph_status parse_mesh_shape(loader *L, const config_setting_t *s,
+                                   const config_setting_t *type_at, sph_shape *sh) {
+    if (L->scene->dim != 3)
+        return fail_at(L, type_at, NULL,
+                       "\"mesh\" is a 3D shape (a closed triangle surface); in %dD use boxes, "
+                       "discs and annuli",
+                       L->scene->dim);
+    sph_status st = check_keys(L, s, KEYS("type", "file", "scale", "rotate", "translate"));
+    if (st) return st;
+    const config_setting_t *file_at;
+    const char *file = "";
+    if ((st = get_member(L, s, "file", true, &file_at)) || (st = as_string(L, file_at, &file)))
+        return st;
+    if (!*file) return fail_at(L, file_at, NULL, "must name a mesh file (STL, OBJ)");
+    sph_mesh_transform tf = {1.0, {0, 0, 0}, {0, 0, 0}};
+    if ((st = get_float(L, s, "scale", false, 1.0, 0, true, INFINITY, false, &tf.scale)) ||
+        (st = get_vector(L, s, "rotate", false, 3, tf.rotate_deg, NULL)) ||
+        (st = get_vector(L, s, "translate", false, 3, tf.translate, NULL)))
+        return st;
+    /* relative to the directory of the scene file, like every path a scene names */
+    char path[SPH_SCENE_PATH_LEN];
+    const char *slash = strrchr(L->file, '/');
+    const int dirlen = file[0] == '/' || !slash ? 0 : (int)(slash - L->file) + 1;
+    if ((size_t)dirlen + strlen(file) >= sizeof path)
+        return fail_at(L, file_at, NULL, "the path is longer than %d characters",
+                       (int)sizeof path - 1);
+    snprintf(path, sizeof path, "%.*s%s", dirlen, L->file, file);
+    struct stat info;
+    if (stat(path, &info) != 0)
+        return fail_at(L, file_at, NULL, "mesh file %s: cannot open it: %s", path, strerror(errno));
+    if (!S_ISREG(info.st_mode))
+        return fail_at(L, file_at, NULL, "mesh file %s: not a regular file", path);
+    if (info.st_size == 0) return fail_at(L, file_at, NULL, "mesh file %s is empty", path);
+    if (info.st_size > SPH_MESH_MAX_FILE_BYTES)
+        return fail_at(L, file_at, NULL, "mesh file %s: %lld bytes, more than the %ld read", path,
+                       (long long)info.st_size, SPH_MESH_MAX_FILE_BYTES);
+    char why[512];
+    sh->mesh = sph_mesh_load(path, NULL, 0, NULL, &tf, why, sizeof why);
+    if (!sh->mesh) return fail_at(L, file_at, NULL, "mesh file %s %s", path, why);
+    sh->type = SPH_SHAPE_MESH;
+    sh->nparts = 0;
+    sph_mesh_bounds(sh->mesh, sh->lower, sh->upper);
+    return SPH_OK;
+}
+
 static sph_status parse_shape(loader *L, const config_setting_t *s, int index) {
     sph_scene *sc = L->scene;
     sph_shape *sh = &sc->shapes[index];
@@ -1594,12 +1649,13 @@ static sph_status parse_shape(loader *L, const config_setting_t *s, int index) {
                        type_name(config_setting_type(s)));
     int type = 0;
     const config_setting_t *type_at;
-    sph_status st = get_keyword(
-        L, s, "type", true, 0,
-        KEYS("box", "union", "difference", "disc", "ball", "annulus", "hollow_sphere", "cylinder"),
-        &type, &type_at);
+    sph_status st = get_keyword(L, s, "type", true, 0,
+                                KEYS("box", "union", "difference", "disc", "ball", "annulus",
+                                     "hollow_sphere", "cylinder", "mesh"),
+                                &type, &type_at);
     if (st) return st;
     const int dim = sc->dim;
+    if (type == 8) return parse_mesh_shape(L, s, type_at, sh);
     if (type >= 3) return parse_round_shape(L, s, type_at, type, sh);
     if (type == 0) {
         sh->type = SPH_SHAPE_BOX;
@@ -3050,10 +3106,7 @@ static sph_status load(sph_scene *scene, const char *path, const char *text,
     if (st == SPH_OK) st = parse_scene(&L, config_root_setting(&cfg));
     if (st == SPH_OK) st = check_resolved(&L, &cfg);
     config_destroy(&cfg);
-    if (st != SPH_OK) {
-        free(scene->resolved_text);
-        scene->resolved_text = NULL;
-    }
+    if (st != SPH_OK) sph_scene_free(scene);
     return st;
 }
 
@@ -3111,6 +3164,11 @@ void sph_scene_free(sph_scene *scene) {
     if (!scene) return;
     free(scene->resolved_text);
     scene->resolved_text = NULL;
+    /* every shape slot: a load that failed may have read meshes past nshapes' count */
+    for (int i = 0; i < SPH_SCENE_MAX_SHAPES; i++) {
+        sph_mesh_free(scene->shapes[i].mesh);
+        scene->shapes[i].mesh = NULL;
+    }
 }
 
 /* ------------------------------------------------------------------------ */
@@ -3139,6 +3197,8 @@ bool sph_shape_contains(const sph_scene *scene, int shape, const double x[3]) {
         return r2 >= sh->inner_radius * sh->inner_radius &&
                r2 <= sh->outer_radius * sh->outer_radius;
     }
+    case SPH_SHAPE_MESH:
+        return sph_mesh_contains(sh->mesh, x);
     case SPH_SHAPE_CYLINDER: {
         double d[3], s = 0.0;
         for (int a = 0; a < 3; a++) {
@@ -3160,7 +3220,8 @@ void sph_shape_bounds(const sph_scene *scene, int shape, double lower[3], double
     case SPH_SHAPE_BOX:
     case SPH_SHAPE_SPHERE:
     case SPH_SHAPE_CYLINDER:
-        /* round shapes store their bounding box (parse_round_shape) */
+    case SPH_SHAPE_MESH:
+        /* round shapes and meshes store their bounding box */
         for (int a = 0; a < 3; a++) lower[a] = sh->lower[a], upper[a] = sh->upper[a];
         return;
     case SPH_SHAPE_UNION:

@@ -84,7 +84,9 @@ typedef enum {
     SPH_SHAPE_SPHERE,
     /* 0 <= (x - centre).axis <= length and the distance from the axis <=
      * outer_radius: "cylinder" (3D), centre = the centre of one end */
-    SPH_SHAPE_CYLINDER
+    SPH_SHAPE_CYLINDER,
+    /* a closed triangle mesh read from a file (host/mesh.h), 3D */
+    SPH_SHAPE_MESH
 } sph_shape_type;
 typedef struct {
     sph_shape_type type;
@@ -95,6 +97,9 @@ typedef struct {
     double centre[3], inner_radius, outer_radius, axis[3], length;
     int nparts;
     int parts[SPH_SCENE_MAX_SHAPE_PARTS]; /* indices into sph_scene.shapes */
+    /* "mesh": the transformed, checked mesh (owned; sph_scene_free releases
+     * it); lower/upper hold its bounding box */
+    struct sph_mesh *mesh;
 } sph_shape;
 
 typedef enum {

@@ -2,6 +2,8 @@
  * (see shape_sdf.h). */
 #include "shape_sdf.h"
 
+#include "mesh.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -96,6 +98,8 @@ double sph_shape_sdf(const sph_scene *scene, int shape, const double x[3], doubl
         const double q[2] = {rho - sh->outer_radius, fabs(ds) - 0.5 * sh->length};
         return combine(2, q, (const double(*)[3])dir, normal);
     }
+    case SPH_SHAPE_MESH:
+        return sph_mesh_sdf(sh->mesh, x, normal);
     case SPH_SHAPE_UNION: {
         double best = INFINITY, n[3];
         for (int i = 0; i < sh->nparts; i++) {
@@ -153,6 +157,9 @@ static uint64_t hash_shape(const sph_scene *scene, int shape, uint64_t h) {
             h = fnv(h, sh->axis, sizeof sh->axis);
             h = fnv(h, &sh->length, sizeof sh->length);
         }
+        break;
+    case SPH_SHAPE_MESH:
+        h = sph_mesh_hash(sh->mesh, h);
         break;
     case SPH_SHAPE_UNION:
     case SPH_SHAPE_DIFFERENCE:

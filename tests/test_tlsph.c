@@ -227,6 +227,12 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
                "%.3g; %d deep: max |a| %.3g of the edge's %.3g\n",
                be->kind_name, interior, f_err, p_err / p_max, deep, a_deep, a_edge);
         CHECK(t, interior == 14 * 14 && deep == 8 * 8, "interior %d, deep %d", interior, deep);
+        /* an SVK program without damping has neither the hyperelastic laws nor the damping */
+        if (kind == SPH_BACKEND_OPENCL)
+            CHECK(t,
+                  !strstr(be->build_options, "SPH_ELASTIC_MODEL") &&
+                      !strstr(be->build_options, "SPH_TL_DAMPING"),
+                  "SVK TLSPH program: %s", be->build_options);
         CHECK(t, f_err <= 1e-12, "F on interior particles: max error %.3g", f_err);
         CHECK(t, p_err <= 1e-12 * p_max, "P against SVK: max error %.3g of %.3g", p_err, p_max);
         CHECK(t, a_deep <= 1e-9 * a_edge, "deep acceleration %.3g, edge %.3g", a_deep, a_edge);
@@ -738,6 +744,12 @@ static void hyperelastic_patch(test_counts *t, sph_backend_kind kind, int model)
     if (!st) st = be->ops->download(be, FIELD_PK1, pk1, &err);
     if (!st) st = be->ops->download(be, FIELD_ACC_SHEAR, acc, &err);
     CHECK(t, st == SPH_OK, "%s patch: %s", name, err.msg);
+    if (!st && kind == SPH_BACKEND_OPENCL) {
+        char option[64];
+        snprintf(option, sizeof option, "-DSPH_ELASTIC_MODEL=%d", model);
+        CHECK(t, strstr(be->build_options, option) != NULL, "%s program: %s", name,
+              be->build_options);
+    }
     if (!st) {
         const double lambda = prm->materials[0].lambda, mu = prm->materials[0].shear_modulus;
         double p_law[4], p_svk[4], p_max = 0.0, law_svk = 0.0, p_err = 0.0, a_edge = 0.0,
@@ -790,6 +802,13 @@ static sph_status damping_patch_run(sph_backend_kind kind, double damping, int f
     sph_backend *be =
         patch_backend_law(kind, 0.0, f0, NULL, ELASTIC_MODEL_SVK, damping, p, prm, id, err);
     if (!be) return SPH_ERR_RUNTIME;
+    /* the damping is compiled into the OpenCL program only when it acts */
+    if (kind == SPH_BACKEND_OPENCL &&
+        (strstr(be->build_options, "-DSPH_TL_DAMPING=1") != NULL) != (damping > 0)) {
+        sph_fail(err, SPH_ERR_RUNTIME, "damping %g, program %s", damping, be->build_options);
+        sph_backend_destroy(be);
+        return SPH_ERR_RUNTIME;
+    }
     double *vel = malloc(sizeof(double) * (size_t)(2 * n));
     sph_status st = vel ? SPH_OK : sph_fail(err, SPH_ERR_RUNTIME, "out of memory");
     const double c = 0.5 * PATCH_N * prm->dp;

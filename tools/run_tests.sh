@@ -19,7 +19,8 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -L cpu
 
 # fuzzing: libFuzzer over the scene parser, validator and particle generator
-# for 60 s, and over the run directory's writers for 20 s, from the seed
+# for 60 s, over the run directory's writers for 20 s and over the mesh reader
+# for 20 s, from the seed
 # corpora (tests/fuzz; any crash, leak, UB report, hang or broken invariant
 # fails the script and leaves crash-* in build-fuzz)
 if ! command -v clang >/dev/null; then
@@ -29,7 +30,7 @@ elif [ ! -f "$(clang -print-file-name=libclang_rt.fuzzer-x86_64.a)" ]; then
 else
   cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DSPHSOLID_WERROR=ON -DSPHSOLID_FUZZ=ON
-  cmake --build build-fuzz --target fuzz_scene fuzz_writers -j "$jobs"
+  cmake --build build-fuzz --target fuzz_scene fuzz_writers fuzz_mesh -j "$jobs"
   mkdir -p build-fuzz/corpus build-fuzz/writers-corpus
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
     build-fuzz/tests/fuzz/fuzz_scene -max_total_time=60 -timeout=10 -rss_limit_mb=2048 \
@@ -44,6 +45,15 @@ else
   TMPDIR=$fuzz_tmp LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
     build-fuzz/tests/fuzz/fuzz_writers -max_total_time=20 -timeout=10 -rss_limit_mb=2048 \
     -max_len=1024 -artifact_prefix=build-fuzz/ build-fuzz/writers-corpus tests/fuzz/writers_corpus
+  # the mesh reader for 20 s: STL and OBJ bytes through assimp, the welding, the
+  # checks and the search tree (tests/fuzz/fuzz_mesh.c); the slow unwinder shows
+  # assimp's frames for its leak suppressions (tests/fuzz/lsan.supp)
+  mkdir -p build-fuzz/mesh-corpus
+  ASAN_OPTIONS=fast_unwind_on_malloc=0 \
+  LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
+    build-fuzz/tests/fuzz/fuzz_mesh -max_total_time=20 -timeout=10 -rss_limit_mb=2048 \
+    -max_len=4096 -artifact_prefix=build-fuzz/ build-fuzz/mesh-corpus tests/fuzz/mesh_corpus \
+    tests/fuzz/mesh_regressions
 fi
 
 # formatting: the sources match .clang-format

@@ -1,0 +1,270 @@
+/* test_mesh.c — closed triangle meshes as shapes (host/mesh.c).
+ *
+ *  1. A unit cube as 12 triangles (ASCII STL, binary STL, and OBJ whose
+ *     corners are split by face normals, so that they only meet after
+ *     welding), scaled by 2, turned 30 degrees about z and moved: the signed
+ *     distance equals the rotated box's exact one at 2 000 random points
+ *     inside, outside and near edges and corners (1e-12), its normal the
+ *     box's outward gradient away from the medial axes (1e-9), the inside
+ *     test its sign, the volume 8 and the bounding box the turned cube's.
+ *  2. The equal-volume icosphere of cases/mesh_ball_3d (5 120 triangles):
+ *     volume 4 pi / 3 (1e-6 relative after the file's float rounding), and
+ *     the signed distance within the facets' sagitta (0.1 % of R) of the
+ *     sphere's at random points.
+ *  3. Bad meshes refused with what and where: an unreadable file, bytes that
+ *     are no mesh, a mesh without triangles, an open surface (one triangle
+ *     removed: 3 boundary edges), a degenerate triangle, one triangle turned
+ *     over (inconsistent winding), the whole surface inside out, edges
+ *     shared by three triangles (a face doubled, reversed).
+ */
+#include "mesh.h"
+#include "test_support.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+/* the unit cube [0, 1]^3 as 12 counter-clockwise (outward) triangles */
+static const double CUBE_V[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                    {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+static const int CUBE_T[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                  {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+
+static void write_ascii_stl(const char *path, const int (*t)[3], int nt) {
+    FILE *f = fopen(path, "w");
+    fprintf(f, "solid cube\n");
+    for (int k = 0; k < nt; k++) {
+        fprintf(f, " facet normal 0 0 0\n  outer loop\n");
+        for (int c = 0; c < 3; c++)
+            fprintf(f, "   vertex %g %g %g\n", CUBE_V[t[k][c]][0], CUBE_V[t[k][c]][1],
+                    CUBE_V[t[k][c]][2]);
+        fprintf(f, "  endloop\n endfacet\n");
+    }
+    fprintf(f, "endsolid cube\n");
+    fclose(f);
+}
+
+static void write_binary_stl(const char *path, const int (*t)[3], int nt) {
+    FILE *f = fopen(path, "wb");
+    char header[80] = "binary cube";
+    fwrite(header, 1, 80, f);
+    const uint32_t n = (uint32_t)nt;
+    fwrite(&n, 4, 1, f);
+    for (int k = 0; k < nt; k++) {
+        float rec[12] = {0, 0, 0};
+        for (int c = 0; c < 3; c++)
+            for (int a = 0; a < 3; a++) rec[3 + 3 * c + a] = (float)CUBE_V[t[k][c]][a];
+        fwrite(rec, 4, 12, f);
+        const uint16_t attr = 0;
+        fwrite(&attr, 2, 1, f);
+    }
+    fclose(f);
+}
+
+/* OBJ with one normal per face, so that each face has its own vertices in
+ * assimp's output and only welding joins them */
+static void write_obj(const char *path) {
+    FILE *f = fopen(path, "w");
+    for (int v = 0; v < 8; v++)
+        fprintf(f, "v %g %g %g\n", CUBE_V[v][0], CUBE_V[v][1], CUBE_V[v][2]);
+    for (int k = 0; k < 12; k++) fprintf(f, "vn 0 0 %d\n", k + 1);
+    for (int k = 0; k < 12; k++)
+        fprintf(f, "f %d//%d %d//%d %d//%d\n", CUBE_T[k][0] + 1, k + 1, CUBE_T[k][1] + 1, k + 1,
+                CUBE_T[k][2] + 1, k + 1);
+    fclose(f);
+}
+
+/* the exact signed distance of the box [0, 2]^3 at y (box frame), and its gradient */
+static double box_sdf(const double y[3], double grad[3]) {
+    double q[3], out2 = 0.0, inside = -INFINITY;
+    int nearest = 0;
+    for (int a = 0; a < 3; a++) {
+        q[a] = fabs(y[a] - 1.0) - 1.0;
+        if (q[a] > 0) out2 += q[a] * q[a];
+        if (q[a] > inside) inside = q[a], nearest = a;
+    }
+    for (int a = 0; a < 3; a++) grad[a] = 0.0;
+    if (out2 > 0) {
+        const double d = sqrt(out2);
+        for (int a = 0; a < 3; a++)
+            if (q[a] > 0) grad[a] = q[a] / d * (y[a] > 1.0 ? 1.0 : -1.0);
+        return d;
+    }
+    grad[nearest] = y[nearest] > 1.0 ? 1.0 : -1.0;
+    return inside;
+}
+
+static uint64_t rng_state = 88172645463325252ULL;
+static double uniform(double lo, double hi) {
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return lo + (hi - lo) * (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static void cube_checks(test_counts *t, const char *path, const char *what) {
+    const sph_mesh_transform tf = {2.0, {0, 0, 30.0}, {0.5, -1.0, 3.0}};
+    char why[512] = "";
+    sph_mesh *m = sph_mesh_load(path, NULL, 0, NULL, &tf, why, sizeof why);
+    CHECK(t, m != NULL, "%s: %s", what, why);
+    if (!m) return;
+    const double c = cos(PI / 6), s = sin(PI / 6);
+    double lo[3], hi[3];
+    sph_mesh_bounds(m, lo, hi);
+    /* the turned square's x extent: [-2 s, 2 c], y: [0, 2 (s + c)] */
+    CHECK(t,
+          fabs(lo[0] - (0.5 - 2 * s)) < 1e-6 && fabs(hi[0] - (0.5 + 2 * c)) < 1e-6 &&
+              fabs(lo[1] + 1.0) < 1e-6 && fabs(hi[1] - (-1.0 + 2 * (s + c))) < 1e-6 &&
+              fabs(lo[2] - 3.0) < 1e-12 && fabs(hi[2] - 5.0) < 1e-12,
+          "%s: bounds (%g %g %g) (%g %g %g)", what, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    CHECK(t, sph_mesh_triangles(m) == 12 && fabs(sph_mesh_volume(m) - 8.0) < 1e-5,
+          "%s: %d triangles, volume %.9g", what, sph_mesh_triangles(m), sph_mesh_volume(m));
+    double worst = 0.0, worst_n = 0.0;
+    int wrong_side = 0;
+    for (int k = 0; k < 2000; k++) {
+        /* box frame point, then to the mesh's frame */
+        double y[3], x[3], g[3], n[3];
+        for (int a = 0; a < 3; a++) y[a] = uniform(-0.5, 2.5);
+        if (k % 4 == 0) y[k % 3] = (k % 8 == 0) ? 2.0 + 1e-7 : -1e-7; /* near a face */
+        x[0] = 0.5 + c * y[0] - s * y[1];
+        x[1] = -1.0 + s * y[0] + c * y[1];
+        x[2] = 3.0 + y[2];
+        const double exact = box_sdf(y, g);
+        const double phi = sph_mesh_sdf(m, x, n);
+        /* the float vertices of the STL: 1e-7 of the size */
+        worst = fmax(worst, fabs(phi - exact));
+        wrong_side += sph_mesh_contains(m, x) != (exact <= 0.0) && fabs(exact) > 1e-6;
+        /* the normal: the box's gradient in the mesh frame, where unique
+         * (away from the medial surfaces: compare only clear cases) */
+        const double gx = c * g[0] - s * g[1], gy = s * g[0] + c * g[1], gz = g[2];
+        double second = INFINITY; /* the gap to the next-nearest face, inside */
+        if (exact < 0)
+            for (int a = 0; a < 3; a++)
+                for (int side = 0; side < 2; side++) {
+                    const double d = side ? 2.0 - y[a] : y[a];
+                    if (d > -exact + 1e-9) second = fmin(second, d + exact);
+                }
+        if (exact > 0 || second > 1e-3)
+            worst_n = fmax(worst_n, fabs(n[0] - gx) + fabs(n[1] - gy) + fabs(n[2] - gz));
+    }
+    printf("%s: 2000 points: max |phi - phi_box| %.3g, normal %.3g, %d on the wrong side\n", what,
+           worst, worst_n, wrong_side);
+    CHECK(t, worst < 1e-6, "%s: signed distance off by %.3g", what, worst);
+    CHECK(t, worst_n < 1e-5, "%s: normal off by %.3g", what, worst_n);
+    CHECK(t, wrong_side == 0, "%s: %d points on the wrong side", what, wrong_side);
+    sph_mesh_free(m);
+}
+
+static void expect_refused(test_counts *t, const char *path, const char *fragment) {
+    const sph_mesh_transform tf = {1.0, {0, 0, 0}, {0, 0, 0}};
+    char why[512] = "";
+    sph_mesh *m = sph_mesh_load(path, NULL, 0, NULL, &tf, why, sizeof why);
+    printf("refused %s: %s\n", path, why);
+    CHECK(t, m == NULL && strstr(why, fragment) != NULL, "%s: expected '%s', got '%s'", path,
+          fragment, m ? "(accepted)" : why);
+    sph_mesh_free(m);
+}
+
+int main(void) {
+    test_counts t = {0};
+    test_scene_dir tmp;
+    if (test_scene_dir_open(&tmp, "test_mesh")) return 1;
+    const char *dir = tmp.dir;
+    char path[512];
+
+    snprintf(path, sizeof path, "%s/cube_ascii.stl", dir);
+    write_ascii_stl(path, CUBE_T, 12);
+    cube_checks(&t, path, "ASCII STL cube");
+    snprintf(path, sizeof path, "%s/cube_binary.stl", dir);
+    write_binary_stl(path, CUBE_T, 12);
+    cube_checks(&t, path, "binary STL cube");
+    snprintf(path, sizeof path, "%s/cube.obj", dir);
+    write_obj(path);
+    cube_checks(&t, path, "OBJ cube, corners split by normals");
+
+    /* the icosphere of cases/mesh_ball_3d */
+    {
+        test_repo_path("cases/mesh_ball_3d/ball.stl", path, sizeof path);
+        const sph_mesh_transform tf = {0.05, {0, 0, 0}, {0, 0.0525, 0}};
+        char why[512] = "";
+        sph_mesh *m = sph_mesh_load(path, NULL, 0, NULL, &tf, why, sizeof why);
+        CHECK(&t, m != NULL, "icosphere: %s", why);
+        if (m) {
+            const double r = 0.05, v = 4.0 / 3.0 * PI * r * r * r;
+            double worst = 0.0;
+            for (int k = 0; k < 2000; k++) {
+                double x[3];
+                for (int a = 0; a < 3; a++) x[a] = uniform(-0.07, 0.07);
+                const double rho = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+                x[1] += 0.0525;
+                worst = fmax(worst, fabs(sph_mesh_sdf(m, x, NULL) - (rho - r)));
+            }
+            printf("icosphere: %d triangles, volume %.9g (ball %.9g), max |phi - (|x| - R)| "
+                   "%.3g m (R = %g)\n",
+                   sph_mesh_triangles(m), sph_mesh_volume(m), v, worst, r);
+            CHECK(&t, sph_mesh_triangles(m) == 5120, "icosphere triangles %d",
+                  sph_mesh_triangles(m));
+            CHECK(&t, fabs(sph_mesh_volume(m) / v - 1.0) < 1e-6, "icosphere volume %.9g of %.9g",
+                  sph_mesh_volume(m), v);
+            /* the facets' sagitta: vertices 0.072 % out, face centres up to
+             * 0.042 % in (make_ball_stl.py) */
+            CHECK(&t, worst < 1e-3 * r, "icosphere distance off by %.3g", worst);
+            sph_mesh_free(m);
+        }
+    }
+
+    /* bad meshes */
+    snprintf(path, sizeof path, "%s/missing.stl", dir);
+    expect_refused(&t, path, "cannot open it");
+    snprintf(path, sizeof path, "%s/garbage.stl", dir);
+    FILE *f = fopen(path, "w");
+    fprintf(f, "this is not a mesh\n");
+    fclose(f);
+    expect_refused(&t, path, "cannot read it as a mesh");
+    snprintf(path, sizeof path, "%s/empty.stl", dir);
+    f = fopen(path, "w");
+    fprintf(f, "solid empty\nendsolid empty\n");
+    fclose(f);
+    expect_refused(&t, path, "cannot read it as a mesh");
+    snprintf(path, sizeof path, "%s/open.stl", dir);
+    write_ascii_stl(path, CUBE_T, 11);
+    expect_refused(&t, path, "is not closed: 3 boundary edges");
+    int tri[13][3];
+    memcpy(tri, CUBE_T, sizeof CUBE_T);
+    tri[3][2] = tri[3][1]; /* a repeated vertex */
+    snprintf(path, sizeof path, "%s/degenerate.stl", dir);
+    write_ascii_stl(path, (const int(*)[3])tri, 12);
+    expect_refused(&t, path, "1 degenerate triangle");
+    memcpy(tri, CUBE_T, sizeof CUBE_T);
+    const int swap = tri[5][1];
+    tri[5][1] = tri[5][2], tri[5][2] = swap; /* one triangle turned over */
+    snprintf(path, sizeof path, "%s/flipped.stl", dir);
+    write_ascii_stl(path, (const int(*)[3])tri, 12);
+    expect_refused(&t, path, "has inverted triangles: 3 edges");
+    for (int k = 0; k < 12; k++) {
+        const int v1 = CUBE_T[k][1];
+        tri[k][0] = CUBE_T[k][0], tri[k][1] = CUBE_T[k][2], tri[k][2] = v1;
+    }
+    snprintf(path, sizeof path, "%s/inside_out.stl", dir);
+    write_ascii_stl(path, (const int(*)[3])tri, 12);
+    expect_refused(&t, path, "is inside out");
+    memcpy(tri, CUBE_T, sizeof CUBE_T);
+    tri[12][0] = 0, tri[12][1] = 1, tri[12][2] = 2; /* a third triangle on 0-1, 1-2, 2-0 */
+    snprintf(path, sizeof path, "%s/fin.stl", dir);
+    write_ascii_stl(path, (const int(*)[3])tri, 13);
+    expect_refused(&t, path, "more than two triangles");
+
+    static const char *const written[] = {
+        "cube_ascii.stl", "cube_binary.stl", "cube.obj",    "garbage.stl",    "empty.stl",
+        "open.stl",       "degenerate.stl",  "flipped.stl", "inside_out.stl", "fin.stl"};
+    for (size_t k = 0; k < sizeof written / sizeof written[0]; k++) {
+        snprintf(path, sizeof path, "%s/%s", dir, written[k]);
+        unlink(path);
+    }
+    test_scene_dir_close(&tmp);
+    return test_summary("test_mesh", &t);
+}
