@@ -243,7 +243,7 @@ ROWS = [
         [ed("lower_pad_dp = [4.0, 4.0]", "lower_pad_dp = [-4.0, 4.0]")], marker="lower_pad_dp"),
     Row("unknown shape type", 2,
         ['{file}:{line}: shapes.plate.type: must be one of "box", "union", "difference", '
-         '"disc", "ball", "annulus", "hollow_sphere", "cylinder", got "unoin"'],
+         '"disc", "ball", "annulus", "hollow_sphere", "cylinder", "mesh", got "unoin"'],
         [ed('plate = { type = "union";', 'plate = { type = "unoin";')], marker='"unoin"'),
     Row("annulus with inner radius >= outer radius", 2,
         ["{file}:{line}: shapes.ring.outer_radius: must exceed inner_radius = 0.02, got 0.01"],

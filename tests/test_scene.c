@@ -449,7 +449,7 @@ static const bad_row BAD[] = {
      "%F:11: shapes.d.parts: a difference needs at least 2 parts, got 1"},
     {"bad shape type", "type = \"box\"", "type = \"sphere\"", NULL,
      "%F:10: shapes.block.type: must be one of \"box\", \"union\", \"difference\", \"disc\", "
-     "\"ball\", \"annulus\", \"hollow_sphere\", \"cylinder\", got \"sphere\""},
+     "\"ball\", \"annulus\", \"hollow_sphere\", \"cylinder\", \"mesh\", got \"sphere\""},
     {"box key on a union", "};\nbodies",
      "  u = { type = \"union\"; parts = [\"block\"]; lower = [0.0, 0.0]; };\n};\nbodies", NULL,
      "%F:11: shapes.u.lower: unknown key 'lower' (valid keys here: type, parts)"},
