@@ -7,7 +7,11 @@ vertices lie 0.072 % outside the sphere, its face centres 0.018 % to 0.042 % ins
 clockwise seen from outside, each with its outward normal.  Level 4: 5 120 triangles."""
 import argparse
 import math
-import struct
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from stl_file import write_binary_stl  # noqa: E402
 
 
 def icosphere(level):
@@ -51,19 +55,8 @@ def main():
     v, f = icosphere(a.level)
     s = (4 * math.pi / 3 / volume(v, f)) ** (1 / 3)
     v = [tuple(s * x for x in p) for p in v]
-    with open(a.out, "wb") as out:
-        out.write(b"sphsolid cases/mesh_ball_3d: equal-volume icosphere".ljust(80, b" "))
-        out.write(struct.pack("<I", len(f)))
-        for tri in f:
-            p = [v[k] for k in tri]
-            u = [p[1][k] - p[0][k] for k in range(3)]
-            w = [p[2][k] - p[0][k] for k in range(3)]
-            n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
-            ln = math.sqrt(sum(x * x for x in n))
-            out.write(struct.pack("<3f", *[x / ln for x in n]))
-            for q in p:
-                out.write(struct.pack("<3f", *q))
-            out.write(struct.pack("<H", 0))
+    write_binary_stl(a.out, "sphsolid cases/mesh_ball_3d: equal-volume icosphere",
+                     [[v[k] for k in tri] for tri in f])
     print(f"{a.out}: {len(f)} triangles, {len(v)} vertices, scale {s:.6f}, volume "
           f"{volume(v, f):.9f} (4 pi / 3 = {4 * math.pi / 3:.9f})")
 

@@ -8,7 +8,11 @@ wall is a band of quads split in two.  Counter-clockwise seen from outside.  The
 volume of the prism (the outline's area times the thickness) is printed."""
 import argparse
 import math
-import struct
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from stl_file import write_binary_stl  # noqa: E402
 
 R_TIP, R_ROOT, THICKNESS = 0.5, 0.4, 0.2
 
@@ -50,18 +54,7 @@ def main():
     p = outline(a.teeth)
     area = 0.5 * sum(p[k][0] * p[(k + 1) % len(p)][1] - p[(k + 1) % len(p)][0] * p[k][1]
                      for k in range(len(p)))
-    with open(a.out, "wb") as out:
-        out.write(b"sphsolid cases/mesh_gear_3d: spur gear".ljust(80, b" "))
-        out.write(struct.pack("<I", len(tris)))
-        for t in tris:
-            u = [t[1][k] - t[0][k] for k in range(3)]
-            w = [t[2][k] - t[0][k] for k in range(3)]
-            nrm = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
-            ln = math.sqrt(sum(x * x for x in nrm))
-            out.write(struct.pack("<3f", *[x / ln for x in nrm]))
-            for q in t:
-                out.write(struct.pack("<3f", *q))
-            out.write(struct.pack("<H", 0))
+    write_binary_stl(a.out, "sphsolid cases/mesh_gear_3d: spur gear", tris)
     print(f"{a.out}: {a.teeth} teeth, {len(tris)} triangles, outline area {area:.9f} m^2, "
           f"volume {area * THICKNESS:.9f} m^3")
 
