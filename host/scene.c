@@ -1586,6 +1586,18 @@ static sph_status parse_round_shape(loader *L, const config_setting_t *s,
     return SPH_OK;
 }
 
+/* `file` as named at `at`, relative to the directory of the scene file
+ * (like every path a scene names; an absolute path stays), into out[size]. */
+static sph_status scene_relative_path(loader *L, const config_setting_t *at, const char *file,
+                                      char *out, size_t size) {
+    const char *slash = strrchr(L->file, '/');
+    const int dirlen = file[0] == '/' || !slash ? 0 : (int)(slash - L->file) + 1;
+    if ((size_t)dirlen + strlen(file) >= size)
+        return fail_at(L, at, NULL, "the path is longer than %d characters", (int)size - 1);
+    snprintf(out, size, "%.*s%s", dirlen, L->file, file);
+    return SPH_OK;
+}
+
 /* Mesh files a scene may name: regular files (not a device or a pipe, which
  * could stream forever) of at most this size. */
 #define SPH_MESH_MAX_FILE_BYTES (1L << 30)
@@ -1612,14 +1624,8 @@ static sph_status parse_mesh_shape(loader *L, const config_setting_t *s,
         (st = get_vector(L, s, "rotate", false, 3, tf.rotate_deg, NULL)) ||
         (st = get_vector(L, s, "translate", false, 3, tf.translate, NULL)))
         return st;
-    /* relative to the directory of the scene file, like every path a scene names */
     char path[SPH_SCENE_PATH_LEN];
-    const char *slash = strrchr(L->file, '/');
-    const int dirlen = file[0] == '/' || !slash ? 0 : (int)(slash - L->file) + 1;
-    if ((size_t)dirlen + strlen(file) >= sizeof path)
-        return fail_at(L, file_at, NULL, "the path is longer than %d characters",
-                       (int)sizeof path - 1);
-    snprintf(path, sizeof path, "%.*s%s", dirlen, L->file, file);
+    if ((st = scene_relative_path(L, file_at, file, path, sizeof path))) return st;
     struct stat info;
     if (stat(path, &info) != 0)
         return fail_at(L, file_at, NULL, "mesh file %s: cannot open it: %s", path, strerror(errno));
@@ -2074,14 +2080,7 @@ static sph_status parse_placement(loader *L, const config_setting_t *b, sph_body
     const char *file = "";
     if ((st = as_string(L, at, &file))) return st;
     if (!*file) return fail_at(L, at, NULL, "must not be empty (leave the key out for no file)");
-    /* relative to the directory of the scene file, like every path a scene names */
-    const char *slash = strrchr(L->file, '/');
-    const int dirlen = file[0] == '/' || !slash ? 0 : (int)(slash - L->file) + 1;
-    if ((size_t)dirlen + strlen(file) >= sizeof r->file)
-        return fail_at(L, at, NULL, "the path is longer than %d characters",
-                       (int)sizeof r->file - 1);
-    snprintf(r->file, sizeof r->file, "%.*s%s", dirlen, L->file, file);
-    return SPH_OK;
+    return scene_relative_path(L, at, file, r->file, sizeof r->file);
 }
 
 /* An initial scalar field of a fluid body: a number (kept as its %.17g
