@@ -38,6 +38,7 @@
 #include "sph_riemann.h"
 #include "sph_rotation.h"
 #include "sph_elasticity.h"
+#include "sph_materials.h"
 #include "sph_plasticity.h"
 #include "sph_artificial_stress.h"
 #include "sph_smoothing_kernel.h"
@@ -140,31 +141,33 @@ KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, STEP_DT_PARA
                              GLOBAL const int *restrict contact_count,
                              GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
                              GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
-                             GLOBAL real *restrict acc_diss) {
+                             GLOBAL real *restrict acc_diss MATERIAL_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n || contact_count[i] == 0) return;
     const vec a = contact_acceleration(i, n, cap, R(0.5) * dt, prm, nbr_j, contact_count, pos, vel,
-                                       mass, vol);
+                                       mass, vol MATERIAL_ARG);
     vec_store(acc_diss, n, i, vec_add(vec_load(acc_diss, n, i), a));
 }
 #endif
 
-KERNEL void acoustic_pressure(
-    ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
-    GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_DIR_PARAMS,
-    GLOBAL const hreal *restrict rho, GLOBAL const real *restrict drho,
-    GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
-    GLOBAL const real *restrict acc_diss, GLOBAL hreal *restrict acc_shear,
-    GLOBAL hreal *restrict pos,
-    GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS STRESS_DIV_PARAMS) {
+KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
+                              CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
+                              GLOBAL const int *restrict nbr_j, PAIR_DIR_PARAMS,
+                              GLOBAL const hreal *restrict rho, GLOBAL const real *restrict drho,
+                              GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
+                              GLOBAL const real *restrict acc_diss,
+                              GLOBAL hreal *restrict acc_shear, GLOBAL hreal *restrict pos,
+                              GLOBAL real *restrict vel ROTATION_AVG_PARAMS BODY_PARAMS CLAMP_PARAMS
+                                  STRESS_DIV_PARAMS MATERIAL_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
     (void)stride;
     const real half_dt = R(0.5) * dt;
-    const real p_i = half_step_pressure(prm, rho[i], drho[i], half_dt);
+    CONSTANT sph_params_material *mat_i = MATERIAL_ROW(MATERIAL_OF(i));
+    const real p_i = half_step_pressure(mat_i, rho[i], drho[i], half_dt);
 
     /* sum of riemann_pressure_pair, e_ij (-(p_i + p_j) dW V_j), in
      * SPH_PAIR_LANES lanes (sph_prelude.h; see acoustic_velocity_terms) with
@@ -180,16 +183,27 @@ KERNEL void acoustic_pressure(
             const int slot = NBR_AT(i, k0);
             dwv = lanes_load(pair_dwv + slot);
             UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_load(pair_e + a * stride + slot);
-            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-                const int j = nbr_j[slot + l];
-                LANE(p_j, l) = half_step_pressure(prm, rho[j], drho[j], half_dt);
+            /* the material test out of the lanes: a one-material run's
+             * lanes are those of a program without material ids */
+            if (MATERIALS_VARY) {
+                UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                    const int j = nbr_j[slot + l];
+                    LANE(p_j, l) =
+                        half_step_pressure(MATERIAL_ROW(MATERIAL_OF(j)), rho[j], drho[j], half_dt);
+                }
+            } else {
+                UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                    const int j = nbr_j[slot + l];
+                    LANE(p_j, l) = half_step_pressure(mat_i, rho[j], drho[j], half_dt);
+                }
             }
         } else
 #endif
             UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
                 int j;
                 const int slot = lane_pair(nbr_j, n, cap, i, k0 + l, count, &j);
-                LANE(p_j, l) = half_step_pressure(prm, rho[j], drho[j], half_dt);
+                LANE(p_j, l) =
+                    half_step_pressure(MATERIAL_ROW(MATERIAL_OF(j)), rho[j], drho[j], half_dt);
                 lane_set_geometry(PAIR_DIR(slot, j), k0 + l < count, l, e, &dwv, 0);
             }
         const lanes f = RIEMANN_PRESSURE_FACTOR(p_i, p_j, dwv);
@@ -257,7 +271,7 @@ KERNEL void acoustic_pressure(
     if (prm->nwalls > 0) {
         const vec v_i = vec_load(vel, n, i);
         const vec x_half = vec_axpy(hvec_load(pos, n, i), half_dt, v_i);
-        a_s = vec_add(a_s, wall_acceleration(prm, x_half, v_i, p_i, vol[i] / mass[i]));
+        a_s = vec_add(a_s, wall_acceleration(prm, mat_i, x_half, v_i, p_i, vol[i] / mass[i]));
     }
 #endif
     verlet_advance(prm, n, i, dt, vec_add(a_p, a_s), pos, vel, CLAMP_ARG);
@@ -270,15 +284,17 @@ KERNEL void acoustic_velocity_terms(
     GLOBAL const real *restrict vol, GLOBAL const real *restrict bmat, GLOBAL hreal *restrict rho,
     GLOBAL real *restrict drho, GLOBAL real *restrict acc_diss, GLOBAL hreal *restrict tau,
     GLOBAL hreal *restrict acc_shear ROTATION_AVG_SPIN_PARAMS GRADV_OUT_PARAMS ART_OUT_PARAMS
-        PLASTIC_OUT_PARAMS WALL_POS_PARAMS) {
+        PLASTIC_OUT_PARAMS WALL_POS_PARAMS MATERIAL_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
     const int stride = n * cap; /* the stored pair arrays (PAIR_DIR, PAIR_GEOMETRY) */
     (void)stride;
     const real half_dt = R(0.5) * dt;
-    const real z = prm->materials[0].rho0 * prm->materials[0].c0;
-    const real c0 = prm->materials[0].c0;
+    const int m_i = MATERIAL_OF(i);
+    CONSTANT sph_params_material *mat_i = MATERIAL_ROW(m_i);
+    const real z = mat_i->rho0 * mat_i->c0;
+    const real c0 = mat_i->c0;
     const real limiter_slope = prm->riemann_limit;
     const vec v_i = vec_load(vel, n, i);
 
@@ -327,10 +343,24 @@ KERNEL void acoustic_velocity_terms(
         /* riemann_dissipation_factor: u dW V_j itself (beta = 1) unless the
          * scene limits the dissipation */
         lanes diss = u_dwv;
-        if (limited)
+        lanes lap = u_dwv * inv_r;
+        if (MATERIALS_VARY) {
+            /* a pair of two materials (sph_materials.h): the impedances'
+             * and the shear moduli's harmonic means over i's own, the
+             * limiter at the mean sound speed; 1 and c0 within a material */
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                int j;
+                (void)lane_pair(nbr_j, n, cap, i, k0 + l, count, &j);
+                CONSTANT sph_params_material *mat_j = MATERIAL_ROW(MATERIAL_OF(j));
+                if (limited)
+                    LANE(diss, l) = riemann_dissipation_factor(
+                        LANE(u, l), R(0.5) * (c0 + mat_j->c0), limiter_slope, LANE(dwv, l));
+                LANE(diss, l) *= impedance_ratio(mat_i, mat_j);
+                LANE(lap, l) *= harmonic_ratio(mat_i->shear_modulus, mat_j->shear_modulus);
+            }
+        } else if (limited)
             UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) LANE(diss, l) =
                 riemann_dissipation_factor(LANE(u, l), c0, limiter_slope, LANE(dwv, l));
-        const lanes lap = u_dwv * inv_r;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) {
             lane_diss[a] += e[a] * diss;
             lane_lap[a] += lap * e[a];
@@ -357,10 +387,10 @@ KERNEL void acoustic_velocity_terms(
     if (prm->nwalls > 0) {
         const real wall_rate =
             (real)rho_half * wall_divergence(prm, hvec_load(pos, n, i), v_i,
-                                             half_step_pressure(prm, rho[i], drho[i], half_dt));
+                                             half_step_pressure(mat_i, rho[i], drho[i], half_dt));
         /* a particle leaving the wall gives back its compression and no
          * more in one step: the free surface it becomes has p = 0 */
-        drho_new += fmax(wall_rate, fmin(R(0), (prm->materials[0].rho0 - (real)rho_half) / dt));
+        drho_new += fmax(wall_rate, fmin(R(0), (mat_i->rho0 - (real)rho_half) / dt));
     }
 #endif
     rho[i] = density_advance(rho[i], drho[i], drho_new, half_dt);
@@ -369,13 +399,13 @@ KERNEL void acoustic_velocity_terms(
 
     /* L_i = -sum v_ij (x) (B_i grad W) V_j = -(sum v_ij (x) e dW V_j) B_i^T, B symmetric */
     const mat grad_v = mat_scale(mat_mul(grad_sum, sym_load(bmat, n, i)), R(-1));
-    const real shear_modulus = prm->materials[0].shear_modulus;
+    const real shear_modulus = mat_i->shear_modulus;
     const int formulation = RUNTIME_FORMULATION;
     (void)shear_modulus; /* used by the features compiled in below */
     (void)formulation;
     real ratio;
 #if SPH_HAS_PLASTICITY
-    const mat tau_new = shear_stress_advance(tau, n, i, grad_v, prm, dt, plastic_strain, &ratio);
+    const mat tau_new = shear_stress_advance(tau, n, i, grad_v, mat_i, dt, plastic_strain, &ratio);
     /* only GNOG(-A) scale their penalty by the return ratio: OG and OAS have
      * no such buffer (an OpenCL program's PRESENT is 1) */
 #    if SPH_HAS_PENALTY
@@ -384,14 +414,14 @@ KERNEL void acoustic_velocity_terms(
     (void)penalty_scale;
 #    endif
 #else
-    const mat tau_new = shear_stress_advance(tau, n, i, grad_v, prm, dt, 0, &ratio);
+    const mat tau_new = shear_stress_advance(tau, n, i, grad_v, mat_i, dt, 0, &ratio);
     (void)ratio;
 #endif
 #if SPH_HAS_ART_STRESS
     if (formulation == FORMULATION_OAS && PRESENT(art_stress))
         sym_store(
             art_stress, n, i,
-            artificial_stress(tau_new, eos_pressure(prm, rho[i]), (real)rho[i], prm->art_eps));
+            artificial_stress(tau_new, eos_pressure(mat_i, rho[i]), (real)rho[i], prm->art_eps));
 #endif
 #if SPH_HAS_PENALTY
     /* GNOG(-A): L_j enters the linear velocity prediction of the pair (003 eq. 44) */
@@ -466,7 +496,7 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_
                                  GLOBAL const real *restrict mass, GLOBAL const real *restrict vol,
                                  GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
                                  GLOBAL real *restrict acc_stress PENALTY_PARAMS ART_IN_PARAMS
-                                     PENALTY_SCALE_PARAMS PENALTY_AVG_PARAMS) {
+                                     PENALTY_SCALE_PARAMS PENALTY_AVG_PARAMS MATERIAL_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
     if (i >= n) return;
@@ -492,6 +522,7 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_
     if (PRESENT(penalty_scale)) s_i = penalty_scale[i];
 #        endif
     vec pen_sum = vec_zero();
+    CONSTANT sph_params_material *mat_i = MATERIAL_ROW(MATERIAL_OF(i));
 #    endif
     const int count = nbr_count[i];
     for (int k = 0; k < count; ++k) {
@@ -522,7 +553,11 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_
 #        if SPH_HAS_PLASTICITY
             if (PRESENT(penalty_scale)) s_ij = R(0.5) * (s_i + penalty_scale[j]);
 #        endif
-            const real weight = s_ij * dwv;
+            real weight = s_ij * dwv;
+            /* two materials: the shear moduli's harmonic mean (sph_materials.h) */
+            if (MATERIALS_VARY)
+                weight *= harmonic_ratio(mat_i->shear_modulus,
+                                         MATERIAL_ROW(MATERIAL_OF(j))->shear_modulus);
             pen_sum = projected ? vec_axpy(pen_sum, weight * vec_dot(v_hat_over_r, e), e)
                                 : vec_axpy(pen_sum, weight, v_hat_over_r);
         }
@@ -537,8 +572,7 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_
 #    if SPH_HAS_PENALTY
     if (penalty) {
         /* 1/rho_i as V_i/m_i, as for ENOG above: momentum exact */
-        const vec da =
-            vec_scale(pen_sum, dt * prm->xi_g * prm->materials[0].shear_modulus * inv_rho);
+        const vec da = vec_scale(pen_sum, dt * prm->xi_g * mat_i->shear_modulus * inv_rho);
         accumulate_increment(acc_shear, DACC_ARG, n, i, da, l_i, RUNTIME_ROTATION, dt);
     }
 #    endif

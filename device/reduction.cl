@@ -18,6 +18,7 @@
 #include "sph_vec.h"
 #include "sph_rotation.h"
 #include "sph_elasticity.h"
+#include "sph_materials.h"
 #include "sph_hyperelastic.h"
 #include "sph_torque_projection.h"
 #include "eulerian_step.cl"
@@ -169,7 +170,8 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT sph_pa
 FN void diagnostics_contrib(const int i, const int n, CONSTANT sph_params *prm,
                             GLOBAL const hreal *pos, GLOBAL const real *vel,
                             GLOBAL const real *mass, GLOBAL const hreal *rho,
-                            GLOBAL const hreal *tau, GLOBAL const real *defgrad, real *c) {
+                            GLOBAL const hreal *tau, GLOBAL const real *defgrad MATERIAL_PARAMS,
+                            real *c) {
     const vec x = hvec_load(pos, n, i), v = vec_load(vel, n, i);
     const real m = mass[i];
     c[DIAG_KINETIC] = R(0.5) * m * vec_dot(v, v);
@@ -191,10 +193,10 @@ FN void diagnostics_contrib(const int i, const int n, CONSTANT sph_params *prm,
     {
         /* the linear-elastic estimate from the density and the deviatoric stress */
         const real volume = (real)(m / rho[i]);
+        CONSTANT sph_params_material *props = MATERIAL_ROW(MATERIAL_OF(i));
         c[DIAG_STRAIN] =
-            volume * strain_energy_density(hsym_load(tau, n, i), eos_pressure(prm, rho[i]),
-                                           prm->materials[0].shear_modulus,
-                                           prm->materials[0].bulk_modulus);
+            volume * strain_energy_density(hsym_load(tau, n, i), eos_pressure(props, rho[i]),
+                                           props->shear_modulus, props->bulk_modulus);
     }
     UNROLL for (int a = 0; a < SPH_DIM; ++a) c[DIAG_MOMENTUM + a] = m * v.c[a];
 #if SPH_DIM == 1
@@ -352,10 +354,11 @@ __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                    GLOBAL const hreal *restrict rho, GLOBAL const hreal *restrict tau,
-                   GLOBAL real *restrict partials DIAG_DEFGRAD_PARAM) {
+                   GLOBAL real *restrict partials DIAG_DEFGRAD_PARAM MATERIAL_PARAMS) {
     REDUCE_SCRATCH;
-    REDUCE_PARTICLES(0, DIAG_NCOMP, DIAG_NCOMP,
-                     diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, DIAG_DEFGRAD_ARG, c));
+    REDUCE_PARTICLES(
+        0, DIAG_NCOMP, DIAG_NCOMP,
+        diagnostics_contrib(i, n, prm, pos, vel, mass, rho, tau, DIAG_DEFGRAD_ARG MATERIAL_ARG, c));
 }
 #    endif
 

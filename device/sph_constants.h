@@ -30,6 +30,10 @@
 #define ELASTIC_MODEL_SVK         0 /* Saint Venant-Kirchhoff, 004 eq. 24 (the default) */
 #define ELASTIC_MODEL_NEO_HOOKEAN 1 /* compressible neo-Hookean (Bonet & Wood; 002) */
 #define ELASTIC_MODEL_EXPONENTIAL 2 /* isotropic exponential (the public code's column) */
+/* The yield stress (Pa) of an elastic material in a scene that also has a
+ * plastic one (sph_materials.h): finite in single precision, and beyond any
+ * stress a solid of this code reaches, so the J2 return never acts. */
+#define SPH_NEVER_YIELDS 1e30
 /* What a formulation computes (f: a FORMULATION_* value). */
 #define FORM_IS_ENOG(f)        ((f) == FORMULATION_ENOG || (f) == FORMULATION_ENOG_A)
 #define FORM_HAS_STRESS_DIV(f) ((f) >= FORMULATION_OG && (f) <= FORMULATION_GNOG_A)

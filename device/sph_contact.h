@@ -56,32 +56,53 @@
  * the energy of a spring by 1 + (omega dt)^2 / 2 per step.)
  * c_Z = contact.impedance and c_K = contact.penalty (1, 1 by default;
  * docs/scene-format.md).
+ *
+ * Between bodies of two materials (sph_materials.h) the impedance part is
+ * c_Z Z_i Z_j/(Z_i + Z_j) max(0, -u_ij), the interface pressure of the
+ * acoustic Riemann problem of the two media, and the penalty's K the
+ * harmonic mean of the two bulk moduli; both are the same for i and j up to
+ * round-off, so momentum stays exact to round-off (cases/impact_two_materials:
+ * 2e-15).
  */
 #ifndef SPH_CONTACT_H
 #define SPH_CONTACT_H
 
 #include "sph_vec.h"
 #include "sph_smoothing_kernel.h"
+#include "sph_materials.h"
 
 /* The two parts of a contact pressure, shared with the rigid walls
- * (sph_wall.h).  Impedance: c_Z rho0 c0 times the share of the normal
- * velocity u_n (< 0: approaching) that the interface takes up (1/2 between
- * two bodies of one material, 1 against a rigid wall). */
-FN real contact_impedance_pressure(CONSTANT sph_params *prm, const real share, const real u_n) {
-    return u_n < R(0) ? -share * prm->contact_impedance * prm->materials[0].rho0 *
-                            prm->materials[0].c0 * u_n
-                      : R(0);
+ * (sph_wall.h), for a particle of the material `props`.  Impedance: c_Z rho0 c0
+ * times the share of the normal velocity u_n (< 0: approaching) that the
+ * interface takes up (1/2 between two bodies of one material, Z_j/(Z_i +
+ * Z_j) between two materials, 1 against a rigid wall). */
+FN real contact_impedance_pressure(CONSTANT sph_params *prm, CONSTANT sph_params_material *props,
+                                   const real share, const real u_n) {
+    return u_n < R(0) ? -share * prm->contact_impedance * props->rho0 * props->c0 * u_n : R(0);
 }
-/* Penalty: c_K K (1 - gap / reach)^2 once the gap is below its reach. */
-FN real contact_penalty_pressure(CONSTANT sph_params *prm, const real gap, const real reach) {
+/* Penalty: c_K K (1 - gap / reach)^2 once the gap is below its reach, with
+ * K the bulk modulus times `stiffness` (1 for one material, the harmonic
+ * mean's ratio between two, sph_materials.h). */
+FN real contact_penalty_pressure(CONSTANT sph_params *prm, CONSTANT sph_params_material *props,
+                                 const real stiffness, const real gap, const real reach) {
     if (!(gap < reach)) return R(0);
     const real overlap = R(1) - gap / reach;
-    return prm->contact_penalty * prm->materials[0].bulk_modulus * overlap * overlap;
+    return prm->contact_penalty * (props->bulk_modulus * stiffness) * overlap * overlap;
 }
 
-/* Contact pressure p_ij of a pair at distance r approaching at -u. */
-FN real contact_pair_pressure(CONSTANT sph_params *prm, const real r, const real u) {
-    return contact_impedance_pressure(prm, R(0.5), u) + contact_penalty_pressure(prm, r, prm->dp);
+/* Contact pressure p_ij of a pair at distance r approaching at -u; mi and
+ * mj the materials of i and j (the same row for one material). */
+FN real contact_pair_pressure(CONSTANT sph_params *prm, CONSTANT sph_params_material *mi,
+                              CONSTANT sph_params_material *mj, const real r, const real u) {
+    if (mi == mj)
+        return contact_impedance_pressure(prm, mi, R(0.5), u) +
+               contact_penalty_pressure(prm, mi, R(1), r, prm->dp);
+    /* two materials: Z_i Z_j/(Z_i + Z_j) = (Z_j/(Z_i + Z_j)) Z_i, the
+     * harmonic mean of K (sph_materials.h) */
+    const real z_i = mi->rho0 * mi->c0, z_j = mj->rho0 * mj->c0;
+    return contact_impedance_pressure(prm, mi, z_j / (z_i + z_j), u) +
+           contact_penalty_pressure(prm, mi, harmonic_ratio(mi->bulk_modulus, mj->bulk_modulus), r,
+                                    prm->dp);
 }
 
 #if SPH_HAS_CONTACT
@@ -91,8 +112,10 @@ FN vec contact_acceleration(const int i, const int n, const int cap, const real 
                             CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_j,
                             GLOBAL const int *restrict contact_count,
                             GLOBAL const hreal *restrict pos, GLOBAL const real *restrict vel,
-                            GLOBAL const real *restrict mass, GLOBAL const real *restrict vol) {
+                            GLOBAL const real *restrict mass,
+                            GLOBAL const real *restrict vol MATERIAL_PARAMS) {
     const vec v_i = vec_load(vel, n, i);
+    CONSTANT sph_params_material *mat_i = MATERIAL_ROW(MATERIAL_OF(i));
     const real cutoff = prm->cutoff;
     vec sum = vec_zero();
     const int count = contact_count[i];
@@ -106,7 +129,7 @@ FN vec contact_acceleration(const int i, const int n, const int cap, const real 
         const real r = sqrt(r2);
         const vec e = vec_scale(d, R(1) / r);
         const real u = vec_dot(vec_sub(v_i, v_j), e);
-        const real p = contact_pair_pressure(prm, r, u);
+        const real p = contact_pair_pressure(prm, mat_i, MATERIAL_ROW(MATERIAL_OF(j)), r, u);
         /* the Laguerre kernels' dW turns positive beyond r = 1.41 h: a
          * contact only pushes, so those pairs do not count */
         const real dw = fmin(kernel_dw(prm, r), R(0));

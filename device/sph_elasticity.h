@@ -10,9 +10,9 @@
 
 /* p = c0^2 (rho - rho0); rho - rho0 is taken in the density's (history)
  * precision, before it rounds to real */
-FN real eos_pressure(CONSTANT sph_params *prm, const hreal rho) {
-    const real c0 = prm->materials[0].c0;
-    return c0 * c0 * (real)(rho - (hreal)prm->materials[0].rho0);
+FN real eos_pressure(CONSTANT sph_params_material *props, const hreal rho) {
+    const real c0 = props->c0;
+    return c0 * c0 * (real)(rho - (hreal)props->rho0);
 }
 
 /* The pressure at the density half-step, p(rho + dt/2 drho), which the
@@ -28,13 +28,13 @@ FN real eos_pressure(CONSTANT sph_params *prm, const hreal rho) {
  * v_f = 0.05) by +0.084 % of the +0.223 % it was off double
  * (docs/benchmarks.md, "Precision modes").  (GPUs without full-rate double
  * run mixed precision's one operation per pair slowly.) */
-FN real half_step_pressure(CONSTANT sph_params *prm, const hreal rho, const real drho,
+FN real half_step_pressure(CONSTANT sph_params_material *props, const hreal rho, const real drho,
                            const real half_dt) {
 #if SPH_DOUBLE
-    return eos_pressure(prm, rho + half_dt * drho);
+    return eos_pressure(props, rho + half_dt * drho);
 #else
-    const real c0 = prm->materials[0].c0;
-    return c0 * c0 * ((real)(rho - (hreal)prm->materials[0].rho0) + half_dt * drho);
+    const real c0 = props->c0;
+    return c0 * c0 * ((real)(rho - (hreal)props->rho0) + half_dt * drho);
 #endif
 }
 

@@ -30,11 +30,10 @@
 /* Return the trial deviatoric stress to the yield surface.  *alpha is the
  * hardening variable (updated); the result's *ratio is the scaling applied
  * (1 while elastic), which also scales the GNOG penalty (notes §3.3). */
-FN mat j2_radial_return(const mat trial, CONSTANT sph_params *prm, GLOBAL real *alpha, const int i,
-                        real *ratio) {
+FN mat j2_radial_return(const mat trial, CONSTANT sph_params_material *props, GLOBAL real *alpha,
+                        const int i, real *ratio) {
     const real norm = sqrt(mat_ddot(trial, trial)); /* sqrt(2 J2) */
-    const real kappa = prm->materials[0].hardening, yield = prm->materials[0].yield,
-               g = prm->materials[0].shear_modulus;
+    const real kappa = props->hardening, yield = props->yield, g = props->shear_modulus;
     const real sqrt23 = sqrt(R(2) / R(3));
     const real f = norm - sqrt23 * (kappa * alpha[i] + yield);
     *ratio = R(1);
@@ -51,16 +50,17 @@ FN mat j2_radial_return(const mat trial, CONSTANT sph_params *prm, GLOBAL real *
  * (elastic); *ratio receives the return ratio (1 while elastic).  Returns
  * the new stress. */
 FN_HOT mat shear_stress_advance(GLOBAL hreal *tau, const int n, const int i, const mat grad_v,
-                                CONSTANT sph_params *prm, const real dt, GLOBAL real *alpha,
-                                real *ratio) {
+                                CONSTANT sph_params_material *props, const real dt,
+                                GLOBAL real *alpha, real *ratio) {
     const mat tau_old = hsym_load(tau, n, i);
-    const mat increment = jaumann_increment(tau_old, grad_v, prm->materials[0].shear_modulus, dt);
+    const mat increment = jaumann_increment(tau_old, grad_v, props->shear_modulus, dt);
     hsym_add_store(tau, n, i, increment);
     mat tau_new = mat_add(tau_old, increment);
     *ratio = R(1);
 #if SPH_HAS_PLASTICITY
-    if (RUNTIME_PLASTIC && PRESENT(alpha)) {
-        tau_new = j2_radial_return(tau_new, prm, alpha, i, ratio);
+    /* the hardening buffer exists in plastic runs only */
+    if (PRESENT(alpha)) {
+        tau_new = j2_radial_return(tau_new, props, alpha, i, ratio);
         if (*ratio != R(1)) hsym_scale_store(tau, n, i, *ratio);
     }
 #else

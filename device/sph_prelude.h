@@ -22,6 +22,9 @@
  *                    free of net torque per body (sph_torque_projection.h)
  *   SPH_HAS_CLAMP    1 when the scene has fixed (clamped) particles
  *   SPH_NBODIES      number of bodies (1 when the scene has one body)
+ *   SPH_MATERIALS    rows of the material table in use, given only when
+ *                    more than one: particles then carry a material id
+ *                    (sph_materials.h)
  *   SPH_CONTACT      1 when bodies must not merge: the neighbour lists hold
  *                    same-body pairs, and different bodies interact only by
  *                    the contact force (sph_contact.h); scenes with several
@@ -120,6 +123,11 @@ typedef float real;
 #    define SPH_HAS_CONTACT SPH_CONTACT
 /* rigid walls (sph_wall.h) */
 #    define SPH_HAS_WALLS (SPH_WALLS > 0)
+/* several materials: the per-particle material id (sph_materials.h) */
+#    ifndef SPH_MATERIALS
+#        define SPH_MATERIALS 1
+#    endif
+#    define SPH_HAS_MATERIAL_IDS (SPH_MATERIALS > 1)
 typedef uchar u8;
 #    define ATOMIC_MAX_INT(p, v) atomic_max((p), (v))
 #    define REAL_LOWEST          (-INFINITY)
@@ -189,6 +197,7 @@ typedef float real;
 #    define SPH_HAS_TL_DAMPING    1
 #    define SPH_HAS_CONTACT       1
 #    define SPH_HAS_WALLS         1
+#    define SPH_HAS_MATERIAL_IDS  1
 #    ifndef SPH_HAS_CLAMP
 #        define SPH_HAS_CLAMP 1
 #    endif

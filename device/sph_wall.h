@@ -109,17 +109,19 @@ FN real wall_plane_kernel(CONSTANT sph_params *prm, const real d) {
 
 /* Wall pressure p_w of a particle at the signed distance d, moving at v_n
  * along the wall's normal, with the pressure p_i. */
-FN real wall_pressure(CONSTANT sph_params *prm, const real d, const real v_n, const real p_i) {
+FN real wall_pressure(CONSTANT sph_params *prm, CONSTANT sph_params_material *props, const real d,
+                      const real v_n, const real p_i) {
     /* the penalty's reach is half a spacing: the wall is the mirror plane
      * of a pair */
-    return fmax(p_i, R(0)) + contact_impedance_pressure(prm, R(1), v_n) +
-           contact_penalty_pressure(prm, d, R(0.5) * prm->dp);
+    return fmax(p_i, R(0)) + contact_impedance_pressure(prm, props, R(1), v_n) +
+           contact_penalty_pressure(prm, props, R(1), d, R(0.5) * prm->dp);
 }
 
-/* Acceleration of a particle at x (the half-step position) moving at v,
- * with pressure p and volume over mass vm, from every wall of the scene. */
-FN vec wall_acceleration(CONSTANT sph_params *prm, const vec x, const vec v, const real p,
-                         const real vm) {
+/* Acceleration of a particle of material `props` at x (the half-step
+ * position) moving at v, with pressure p and volume over mass vm, from
+ * every wall of the scene. */
+FN vec wall_acceleration(CONSTANT sph_params *prm, CONSTANT sph_params_material *props, const vec x,
+                         const vec v, const real p, const real vm) {
     vec a = vec_zero();
     const int count = prm->nwalls;
     for (int w = 0; w < count; ++w) {
@@ -131,7 +133,7 @@ FN vec wall_acceleration(CONSTANT sph_params *prm, const vec x, const vec v, con
             d += (x.c[c] - wall->point[c]) * normal.c[c];
         }
         if (d >= prm->cutoff) continue;
-        const real p_w = wall_pressure(prm, d, vec_dot(v, normal), p);
+        const real p_w = wall_pressure(prm, props, d, vec_dot(v, normal), p);
         a = vec_axpy(a, R(2) * p_w * wall_plane_kernel(prm, fabs(d)) * vm, normal);
     }
     return a;

@@ -245,6 +245,82 @@ static double crossing_period(const double *t, const double *y, int count) {
     return crossings >= 2 ? (last - first) / (crossings - 1) : NAN;
 }
 
+/* The normal traction of observer o at sample k. */
+static double normal_traction(const sph_timeseries *ts, const sph_scene *scene, int o, int k) {
+    const double *t =
+        ts->observers + (size_t)k * (size_t)(ts->nobservers * ts->dim) + (size_t)(o * ts->dim);
+    double s = 0.0;
+    for (int a = 0; a < ts->dim; ++a) s += t[a] * scene->observers[o].normal[a];
+    return s;
+}
+
+/* The first pulse of observer o's normal traction from sample `from` on
+ * (sph_wave_metrics): its amplitude, and in *end the sample after it. */
+static double pulse_amplitude(const sph_timeseries *ts, const sph_scene *scene, int o, int from,
+                              int *end) {
+    *end = ts->count;
+    double peak = 0.0;
+    for (int k = from; k < ts->count; ++k)
+        peak = fmax(peak, fabs(normal_traction(ts, scene, o, k)));
+    if (!(peak > 0.0)) return NAN;
+    int start = from;
+    while (start < ts->count && fabs(normal_traction(ts, scene, o, start)) < 0.5 * peak) ++start;
+    if (start == ts->count) return NAN;
+    const double sign = normal_traction(ts, scene, o, start) > 0.0 ? 1.0 : -1.0;
+    int stop = start;
+    while (stop < ts->count && sign * normal_traction(ts, scene, o, stop) >= 0.5 * peak) ++stop;
+    /* the next pulse is sought once this one has died down to a tenth */
+    *end = stop;
+    while (*end < ts->count && sign * normal_traction(ts, scene, o, *end) >= 0.1 * peak) ++*end;
+    const int len = stop - start, lo = start + len / 4, hi = stop - len / 4;
+    double sum = 0.0;
+    for (int k = lo; k < hi; ++k) sum += normal_traction(ts, scene, o, k);
+    return hi > lo ? sum / (double)(hi - lo) : NAN;
+}
+
+/* Z = sqrt(rho0 M) of the material at x (sph_wave_metrics), NaN outside
+ * every body. */
+static double impedance_at(const sph_scene *scene, const double x[3]) {
+    for (int b = 0; b < scene->nbodies; ++b) {
+        if (!sph_shape_contains(scene, scene->bodies[b].shape, x)) continue;
+        const sph_material *m = &scene->materials[sph_body_material_at(scene, b, x)];
+        const double modulus =
+            m->bulk_modulus + 2.0 * m->shear_modulus * (1.0 - 1.0 / (double)scene->dim);
+        return sqrt(m->density * modulus);
+    }
+    return NAN;
+}
+
+double sph_first_pulse(const sph_timeseries *ts, const sph_scene *scene, int o) {
+    if (o < 0 || o >= ts->nobservers || scene->observers[o].quantity != SPH_OBSERVE_TRACTION)
+        return NAN;
+    int end;
+    return pulse_amplitude(ts, scene, o, 0, &end);
+}
+
+void sph_wave_metrics_compute(const sph_timeseries *ts, const sph_scene *scene,
+                              sph_wave_metrics *m) {
+    m->incident = m->reflected = m->transmitted = NAN;
+    m->transmitted_ratio = m->reflected_ratio = NAN;
+    m->transmitted_ratio_theory = m->reflected_ratio_theory = NAN;
+    m->impedance_incident = m->impedance_transmitted = NAN;
+    const int in = scene->wave_incident, out = scene->wave_transmitted;
+    if (in < 0 || out < 0 || in == out || in >= ts->nobservers || out >= ts->nobservers) return;
+    const double z1 = impedance_at(scene, scene->observers[in].position),
+                 z2 = impedance_at(scene, scene->observers[out].position);
+    m->impedance_incident = z1;
+    m->impedance_transmitted = z2;
+    m->transmitted_ratio_theory = 2.0 * z2 / (z1 + z2);
+    m->reflected_ratio_theory = (z2 - z1) / (z2 + z1);
+    if (ts->count == 0) return;
+    int end, unused;
+    m->incident = pulse_amplitude(ts, scene, in, 0, &end);
+    m->reflected = pulse_amplitude(ts, scene, in, end, &unused);
+    m->transmitted = pulse_amplitude(ts, scene, out, 0, &unused);
+    m->transmitted_ratio = m->transmitted / m->incident;
+    m->reflected_ratio = m->reflected / m->incident;
+}
+
 void sph_fluid_metrics_compute(const sph_timeseries *ts, const sph_scene *scene,
                                sph_fluid_metrics *m) {
     m->max_mass_drift = m->max_total_energy_drift = NAN;

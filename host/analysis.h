@@ -100,6 +100,35 @@ void sph_fluid_metrics_compute(const sph_timeseries *ts, const sph_scene *scene,
 void sph_force_coefficients(const sph_scene *scene, const sph_diagnostics *d, double *drag,
                             double *lift);
 
+/* analysis.wave: a stress pulse through an interface (cases/bimaterial_bar).
+ * The normal traction s(t) = t . n of observer `incident` shows the
+ * incident pulse and later the reflected one, that of observer
+ * `transmitted` the transmitted pulse.  A pulse is the first run of samples
+ * (from a given one on) where s keeps the sign of, and at least half of,
+ * the largest |s| from there on; its amplitude is the mean of s over the
+ * middle half of the run, which leaves out the fronts and their overshoot.
+ * The reflected pulse is the first one after the incident pulse has fallen
+ * below a tenth of its largest value.  Theory:
+ * the one-dimensional relations T = 2 Z2/(Z1 + Z2), R = (Z2 - Z1)/(Z2 + Z1)
+ * with Z = sqrt(rho0 M) of the material at each observer, M = K + 2G(1 -
+ * 1/d) the modulus of a uniaxial strain of the model (its deviator is that
+ * of d dimensions: K + G in 2D, K + 4G/3 in 3D).  NaN where a pulse is
+ * missing. */
+typedef struct {
+    double incident, reflected, transmitted; /* amplitudes of t . n (Pa) */
+    double transmitted_ratio, reflected_ratio;
+    double transmitted_ratio_theory, reflected_ratio_theory;
+    double impedance_incident, impedance_transmitted; /* Z1, Z2 (kg m^-2 s^-1) */
+} sph_wave_metrics;
+
+/* The amplitude of the first pulse of traction observer o's normal
+ * traction, as above (summary.json: <name>_first_pulse); NaN without one. */
+double sph_first_pulse(const sph_timeseries *ts, const sph_scene *scene, int o);
+
+/* NaN everywhere unless the scene has analysis.wave. */
+void sph_wave_metrics_compute(const sph_timeseries *ts, const sph_scene *scene,
+                              sph_wave_metrics *m);
+
 /* Period from samples y(t) (displacement from the start value). */
 double sph_first_period(const double *t, const double *y, int count);
 

@@ -154,6 +154,7 @@ static sph_status cpu_upload(sph_backend *be, const sph_particles *p, sph_error 
     }
     memcpy(c->b.field[FIELD_ID], p->id, (size_t)n * sizeof(int32_t));
     if (c->b.field[FIELD_BODY]) memcpy(c->b.field[FIELD_BODY], p->body, (size_t)n);
+    if (c->b.field[FIELD_MATERIAL]) memcpy(c->b.field[FIELD_MATERIAL], p->material, (size_t)n);
     if (c->b.field[FIELD_FIXED]) memcpy(c->b.field[FIELD_FIXED], p->fixed, (size_t)n);
     /* the compressible initial pressure (the WC one follows from rho by the
      * EOS, and the total energy from the pressure: eulerian_prepare) */

@@ -90,10 +90,12 @@ typedef struct {
     void (*riemann_pair)(const double *v_i, const double *v_j, double p_i, double p_j, double z,
                          double dw, const double *e_ij, double *pressure, double *dissipation,
                          double *continuity);
-    /* snapshot fields from rho and tau (host arrays, tau in field layout);
-     * any output may be NULL: pressure [n], von Mises [n], tau [n][6] */
+    /* snapshot fields from rho and tau (host arrays, tau in field layout)
+     * and the material rows (NULL: row 0); any output may be NULL:
+     * pressure [n], von Mises [n], tau [n][6] */
     void (*stress_output)(const sph_params_f64 *prm, int n, const double *rho, const double *tau,
-                          double *pressure, double *von_mises, double *tensor6);
+                          const uint8_t *material, double *pressure, double *von_mises,
+                          double *tensor6);
     /* one substep of a material point's shear stress: Jaumann rate and, when
      * alpha is given and prm->plastic is set, the J2 return (row-major) */
     void (*stress_update)(const sph_params_f64 *prm, const double *grad_v, double dt, double *tau,

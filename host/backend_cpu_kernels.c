@@ -328,17 +328,17 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
             for (int i = 0; i < n; ++i)
                 acoustic_contact(i, n, cap, dt, prm, b->nbr_j, contact_count, F_HREAL(b, FIELD_POS),
                                  F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                                 F_REAL(b, FIELD_ACC_DISS));
+                                 F_REAL(b, FIELD_ACC_DISS), F_U8(b, FIELD_MATERIAL));
         }
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
-            acoustic_pressure(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
-                              (const real *)b->pair_dwv, F_HREAL(b, FIELD_RHO),
-                              F_REAL(b, FIELD_DRHO), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                              F_REAL(b, FIELD_ACC_DISS), F_HREAL(b, FIELD_ACC_SHEAR),
-                              F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
-                              F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY),
-                              F_U8(b, FIELD_FIXED), F_REAL(b, FIELD_ACC_STRESS));
+            acoustic_pressure(
+                i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
+                (const real *)b->pair_dwv, F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_DRHO),
+                F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_ACC_DISS),
+                F_HREAL(b, FIELD_ACC_SHEAR), F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
+                F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY), F_U8(b, FIELD_FIXED),
+                F_REAL(b, FIELD_ACC_STRESS), F_U8(b, FIELD_MATERIAL));
 
 #pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
@@ -350,7 +350,7 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                 F_HREAL(b, FIELD_TAU), F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
                 F_REAL(b, FIELD_SPIN), F_REAL(b, FIELD_GRADV), F_REAL(b, FIELD_ART_STRESS),
                 F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE),
-                F_HREAL(b, FIELD_POS));
+                F_HREAL(b, FIELD_POS), F_U8(b, FIELD_MATERIAL));
 #pragma omp for schedule(static)
         for (int g = 0; g < ngroups; ++g)
             REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
@@ -370,7 +370,8 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                     F_REAL(b, FIELD_VOL), F_HREAL(b, FIELD_RHO), F_HREAL(b, FIELD_TAU),
                     F_REAL(b, FIELD_ACC_STRESS), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_GRADV),
                     F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_ART_STRESS),
-                    F_REAL(b, FIELD_PENALTY_SCALE), F_REAL(b, FIELD_DACC_SHEAR));
+                    F_REAL(b, FIELD_PENALTY_SCALE), F_REAL(b, FIELD_DACC_SHEAR),
+                    F_U8(b, FIELD_MATERIAL));
         }
     }
     combine_rows(ngroups, 1, ncomp, partials, sums);
@@ -392,7 +393,8 @@ static void diagnostics_impl(cpu_buffers *b, double *out) {
     BLOCK_REDUCE(b, 0, DIAG_NCOMP, result,
                  diagnostics_contrib(i, n_, prm, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                                      F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO),
-                                     F_HREAL(b, FIELD_TAU), F_REAL(b, FIELD_DEFGRAD), c));
+                                     F_HREAL(b, FIELD_TAU), F_REAL(b, FIELD_DEFGRAD),
+                                     F_U8(b, FIELD_MATERIAL), c));
 #endif
     for (int k = 0; k < DIAG_NCOMP; ++k) out[k] = (double)result[k];
 }
@@ -472,8 +474,8 @@ static void probe_stress_update(const sph_params_f64 *prm_in, const double *grad
             grad_v.m[a][c] = (real)grad_v_in[a * SPH_DIM + c];
         }
     real alpha = alpha_io ? (real)*alpha_io : R(0), ratio;
-    const mat out =
-        shear_stress_advance(stored, 1, 0, grad_v, prm, (real)dt, alpha_io ? &alpha : NULL, &ratio);
+    const mat out = shear_stress_advance(stored, 1, 0, grad_v, &prm->materials[0], (real)dt,
+                                         alpha_io ? &alpha : NULL, &ratio);
     for (int a = 0; a < SPH_DIM; ++a)
         for (int c = 0; c < SPH_DIM; ++c) tau_io[a * SPH_DIM + c] = (double)out.m[a][c];
     if (alpha_io) *alpha_io = (double)alpha;
@@ -554,8 +556,8 @@ static void monitor_particle_impl(const sph_params_f64 *prm_in, int n, int cap,
  * (xx, yy, zz, xy, yz, xz; zero out of plane in 2D).  tau is in the field
  * layout (component-major, stride n). */
 static void stress_output_impl(const sph_params_f64 *prm_in, int n, const double *rho,
-                               const double *tau, double *pressure, double *von_mises_out,
-                               double *tensor6) {
+                               const double *tau, const uint8_t *material, double *pressure,
+                               double *von_mises_out, double *tensor6) {
     sph_params prm[1];
     params_to_real(prm_in, prm);
     static const int vtk_a[6] = {0, 1, 2, 0, 1, 0}, vtk_b[6] = {0, 1, 2, 1, 2, 2};
@@ -563,7 +565,7 @@ static void stress_output_impl(const sph_params_f64 *prm_in, int n, const double
         mat t;
         for (int a = 0; a < SPH_DIM; ++a)
             for (int b = 0; b < SPH_DIM; ++b) t.m[a][b] = (real)tau[sym_index(a, b) * n + i];
-        const real p = eos_pressure(prm, (real)rho[i]);
+        const real p = eos_pressure(&prm->materials[material ? material[i] : 0], (real)rho[i]);
         if (pressure) pressure[i] = (double)p;
         if (von_mises_out) von_mises_out[i] = (double)von_mises(t, p);
         if (tensor6)

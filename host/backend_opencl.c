@@ -419,6 +419,9 @@ static sph_status ocl_upload(sph_backend *be, const sph_particles *p, sph_error 
     if (rc == CL_SUCCESS && o->field[FIELD_FIXED])
         rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_FIXED], CL_TRUE, 0, (size_t)n, p->fixed,
                                   0, NULL, NULL);
+    if (rc == CL_SUCCESS && o->field[FIELD_MATERIAL])
+        rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_MATERIAL], CL_TRUE, 0, (size_t)n,
+                                  p->material, 0, NULL, NULL);
     if (rc == CL_SUCCESS && o->field[FIELD_KIND])
         rc = clEnqueueWriteBuffer(o->queue, o->field[FIELD_KIND], CL_TRUE, 0, (size_t)n, p->kind, 0,
                                   NULL, NULL);

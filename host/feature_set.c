@@ -19,14 +19,17 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
     out->stepping = scene->stepping;
     out->has_clamp = particles->fixed != NULL && particles->fixed_count > 0;
     out->nbodies = scene->nbodies;
+    int row_of[SPH_MAX_MATERIALS];
+    out->materials = sph_scene_material_rows(scene, row_of);
     /* bodies do not merge: they meet through the contact force (TLSPH runs
      * one body, scene.c) */
     out->contact = scene->nbodies > 1 && scene->formulation != SPH_FORMULATION_TLSPH &&
                    !SPH_FORMULATION_IS_EULERIAN(scene->formulation);
     out->walls = scene->nwalls;
     out->torque_projection = scene->torque_projection;
-    for (int b = 0; b < scene->nbodies; ++b) {
-        const sph_material *m = &scene->materials[scene->bodies[b].material];
+    for (int k = 0; k < scene->nmaterials && k < SPH_MAX_MATERIALS; ++k) {
+        if (row_of[k] < 0) continue;
+        const sph_material *m = &scene->materials[k];
         if (m->plastic) out->plastic = true;
         if (scene->formulation == SPH_FORMULATION_TLSPH) out->elastic_model = m->elastic_model;
     }
@@ -60,7 +63,9 @@ bool sph_history_double(const sph_features *f) {
 
 void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_wg,
                                 bool nbr_row_major, bool pair_recompute, char *buf, size_t len) {
-    char elastic_model[32] = ""; /* Saint Venant-Kirchhoff: the default */
+    char elastic_model[32] = "", materials[32] = ""; /* the defaults: SVK, one material */
+    if (f->materials > 1)
+        snprintf(materials, sizeof materials, " -DSPH_MATERIALS=%d", f->materials);
     if (f->elastic_model != ELASTIC_MODEL_SVK)
         snprintf(elastic_model, sizeof elastic_model, " -DSPH_ELASTIC_MODEL=%d", f->elastic_model);
     snprintf(buf, len,
@@ -68,7 +73,7 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
              "-DSPH_TORQUE_PROJECTION=%d -DSPH_WG=%d "
-             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s%s%s%s",
+             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s%s%s%s%s",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
              f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
@@ -81,7 +86,9 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              f->fluid_walls ? " -DSPH_FLUID_WALLS=1" : "", f->far_field ? " -DSPH_FAR_FIELD=1" : "",
              f->fluid_rk2 ? " -DSPH_FLUID_RK2=1" : "",
              /* TLSPH: a hyperelastic law, the pairwise damping (tl_step.cl) */
-             elastic_model, f->tl_damping ? " -DSPH_TL_DAMPING=1" : "");
+             elastic_model, f->tl_damping ? " -DSPH_TL_DAMPING=1" : "",
+             /* several materials (device/sph_materials.h) */
+             materials);
 }
 
 int sph_substep_ncomp(const sph_features *f) {
@@ -103,15 +110,6 @@ int sph_partial_ncomp(const sph_features *f) {
 
 sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particles,
                            const sph_features *f, sph_params_f64 *prm, sph_error *err) {
-    /* One material per run: pairs of different materials need the
-     * multi-material Riemann states and contact of the benchmark library. */
-    const int material = scene->bodies[0].material;
-    for (int b = 1; b < scene->nbodies; ++b)
-        if (scene->bodies[b].material != material)
-            return sph_fail(err, SPH_ERR_INPUT,
-                            "%s: bodies '%s' and '%s' use different materials; this version "
-                            "runs scenes whose bodies share one material",
-                            scene->path, scene->bodies[0].name, scene->bodies[b].name);
     /* the projection turns a body's surplus torque into a rigid angular
      * acceleration: right for a free body, whose rigid spin it is, but a
      * clamp or a driven region would have to hold that rigid field back and
@@ -125,7 +123,6 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     if (f->nbodies > SPH_MAX_BODIES)
         return sph_fail(err, SPH_ERR_INPUT, "%s: %d bodies, at most %d are supported", scene->path,
                         f->nbodies, SPH_MAX_BODIES);
-    const sph_material *m = &scene->materials[material];
     memset(prm, 0, sizeof *prm);
     const double h = scene->smoothing_ratio * scene->dp;
     prm->h = h;
@@ -147,25 +144,35 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     /* contact between bodies (device/sph_contact.h) */
     prm->contact_impedance = scene->contact_impedance;
     prm->contact_penalty = scene->contact_penalty;
-    /* the material table: every body shares entry 0 (checked above) */
-    sph_params_material_f64 *row = &prm->materials[0];
-    row->rho0 = m->density;
-    row->c0 = m->sound_speed;
-    row->shear_modulus = m->shear_modulus;
-    row->bulk_modulus = m->density * m->sound_speed * m->sound_speed;
-    /* Lame's first parameter of TLSPH's Saint Venant-Kirchhoff model:
-     * lambda = K - 2G/3 = E nu / ((1 + nu)(1 - 2 nu)) in 2D too (plane
-     * strain, the material constants of 004 and of the reference code's
-     * elastic solid).  The in-plane K - G of the updated-Lagrangian 2D model
-     * makes the plate 0.6 % (nu = 0.4) to 4 % (nu = 0.22) too soft in
-     * bending against 004 Table 6 (bench-results/tlsph-kernels.json). */
-    row->lambda = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
-    row->yield = m->yield_stress;
-    row->hardening = m->hardening_modulus;
-    row->exponential_b = m->exponential_b;
-    /* fluids (device/eulerian_step.cl) */
-    row->viscosity = m->viscosity;
-    row->gamma = m->gamma;
+    /* the material table: row r holds the r-th material the bodies and
+     * regions use (sph_scene_material_rows; particles carry their row when
+     * there are several) */
+    int row_of[SPH_MAX_MATERIALS];
+    sph_scene_material_rows(scene, row_of);
+    for (int k = 0; k < scene->nmaterials && k < SPH_MAX_MATERIALS; ++k) {
+        if (row_of[k] < 0) continue;
+        const sph_material *m = &scene->materials[k];
+        sph_params_material_f64 *row = &prm->materials[row_of[k]];
+        row->rho0 = m->density;
+        row->c0 = m->sound_speed;
+        row->shear_modulus = m->shear_modulus;
+        row->bulk_modulus = m->density * m->sound_speed * m->sound_speed;
+        /* Lame's first parameter of TLSPH's Saint Venant-Kirchhoff model:
+         * lambda = K - 2G/3 = E nu / ((1 + nu)(1 - 2 nu)) in 2D too (plane
+         * strain, the material constants of 004 and of the reference code's
+         * elastic solid).  The in-plane K - G of the updated-Lagrangian 2D
+         * model makes the plate 0.6 % (nu = 0.4) to 4 % (nu = 0.22) too soft
+         * in bending against 004 Table 6 (bench-results/tlsph-kernels.json). */
+        row->lambda = m->bulk_modulus - 2.0 / 3.0 * m->shear_modulus;
+        /* an elastic material beside a plastic one never yields
+         * (device/sph_materials.h) */
+        row->yield = f->plastic && !m->plastic ? SPH_NEVER_YIELDS : m->yield_stress;
+        row->hardening = m->hardening_modulus;
+        row->exponential_b = m->exponential_b;
+        /* fluids (device/eulerian_step.cl) */
+        row->viscosity = m->viscosity;
+        row->gamma = m->gamma;
+    }
     prm->periodic_mask = scene->periodic_mask;
     prm->far_field_density = scene->far_field_density;
     for (int a = 0; a < scene->dim; ++a) prm->far_field_velocity[a] = scene->far_field_velocity[a];

@@ -37,6 +37,9 @@ typedef struct {
     int elastic_model;
     bool tl_damping;
     int nbodies;
+    /* rows of the material table in use (sph_scene_material_rows): with
+     * more than one, every particle carries its row (device/sph_materials.h) */
+    int materials;
     /* several bodies that do not merge: same-body neighbour lists and the
      * contact force between bodies (device/sph_contact.h); not TLSPH */
     bool contact;

@@ -28,6 +28,7 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         [FIELD_BMAT] = {"bmat", FIELD_TYPE_REAL, nsym, true},
         [FIELD_ID] = {"id", FIELD_TYPE_INT32, 1, true},
         [FIELD_BODY] = {"body", FIELD_TYPE_U8, 1, f->nbodies > 1},
+        [FIELD_MATERIAL] = {"material", FIELD_TYPE_U8, 1, f->materials > 1},
         [FIELD_FIXED] = {"fixed", FIELD_TYPE_U8, 1, f->has_clamp},
         [FIELD_ACC_STRESS] = {"acc_stress", FIELD_TYPE_REAL, d, FORM_HAS_STRESS_DIV(form)},
         [FIELD_GRADV] = {"gradv", FIELD_TYPE_REAL, d * d, FORM_HAS_PENALTY(form)},

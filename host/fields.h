@@ -30,6 +30,7 @@ typedef enum {
     FIELD_BMAT,           /* kernel-gradient correction matrix B, symmetric */
     FIELD_ID,             /* particle id: its index in the initial set */
     FIELD_BODY,           /* body index (scenes with several bodies) */
+    FIELD_MATERIAL,       /* row of the material table (scenes with several materials) */
     FIELD_FIXED,          /* constraint of the particle + 1 (0: free; sph_constraints.h) */
     FIELD_ACC_STRESS,     /* stress-divergence acceleration (OG, OAS, GNOG, GNOG-A) */
     FIELD_GRADV,          /* velocity gradient L, full d x d (GNOG, GNOG-A: L_j in eq. 44) */

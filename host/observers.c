@@ -12,7 +12,13 @@ sph_status sph_observers_init(const sph_scene *scene, const sph_particles *p,
     set->count = scene->nobservers;
     set->dim = scene->dim;
     set->offset = calloc((size_t)set->count + 1, sizeof(int));
-    if (!set->offset) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    set->normals = calloc((size_t)set->count * 3 + 1, sizeof(double));
+    if (!set->offset || !set->normals) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    for (int o = 0; o < set->count; ++o) {
+        if (scene->observers[o].quantity != SPH_OBSERVE_TRACTION) continue;
+        set->traction = true;
+        for (int a = 0; a < 3; ++a) set->normals[o * 3 + a] = scene->observers[o].normal[a];
+    }
     if (set->count == 0) return SPH_OK;
     const cpu_kernels *k = cpu_kernels_for(scene->dim, true);
     const double cutoff = prm->cutoff;
@@ -59,20 +65,38 @@ sph_status sph_observers_init(const sph_scene *scene, const sph_particles *p,
     return SPH_OK;
 }
 
+/* (sigma . n)_a of particle i, sigma = -p I + tau (tau in VTK order) */
+static double traction(const double *pressure, const double *tensor6, int i, const double *normal,
+                       int a) {
+    /* VTK slot of tau_ab: xx yy zz xy yz xz */
+    static const int slot[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+    double t = -pressure[i] * normal[a];
+    for (int b = 0; b < 3; ++b) t += tensor6[(size_t)i * 6 + (size_t)slot[a][b]] * normal[b];
+    return t;
+}
+
 void sph_observers_eval(const sph_observer_set *set, int n, const double *pos, const int32_t *id,
-                        int32_t *slot_of_id, double *out) {
+                        const double *pressure, const double *tensor6, int32_t *slot_of_id,
+                        double *out) {
     for (int i = 0; i < n; ++i) slot_of_id[id[i]] = i;
-    for (int o = 0; o < set->count; ++o)
+    for (int o = 0; o < set->count; ++o) {
+        const double *normal = set->normals + o * 3;
+        const bool stress = normal[0] != 0.0 || normal[1] != 0.0 || normal[2] != 0.0;
         for (int a = 0; a < set->dim; ++a) {
             double x = 0.0;
-            for (int q = set->offset[o]; q < set->offset[o + 1]; ++q)
-                x += set->weights[q] * pos[(size_t)a * n + slot_of_id[set->ids[q]]];
+            for (int q = set->offset[o]; q < set->offset[o + 1]; ++q) {
+                const int i = slot_of_id[set->ids[q]];
+                x += set->weights[q] *
+                     (stress ? traction(pressure, tensor6, i, normal, a) : pos[(size_t)a * n + i]);
+            }
             out[o * set->dim + a] = x;
         }
+    }
 }
 
 void sph_observers_free(sph_observer_set *set) {
     free(set->offset);
+    free(set->normals);
     free(set->ids);
     free(set->weights);
     memset(set, 0, sizeof *set);

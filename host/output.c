@@ -124,9 +124,11 @@ static sph_status csv_columns(const sph_scene *scene, char names[][SPH_NAME_LEN 
         char why[256];
         if (!sph_name_check(scene->observers[o].name, why, sizeof why))
             return sph_fail(err, SPH_ERR_INPUT, "timeseries.csv: observers[%d].name: %s", o, why);
+        /* a position's components, or a traction's (scene.h, sph_observed) */
+        const bool traction = scene->observers[o].quantity == SPH_OBSERVE_TRACTION;
         for (int a = 0; a < scene->dim; ++a)
-            snprintf(names[n++], SPH_NAME_LEN + 24, "%s_%s", scene->observers[o].name,
-                     axis_name(a));
+            snprintf(names[n++], SPH_NAME_LEN + 24, "%s_%s%s", scene->observers[o].name,
+                     traction ? "traction_" : "", axis_name(a));
     }
     for (int c = 1; c < n; ++c)
         for (int k = 0; k < c; ++k)

@@ -117,7 +117,14 @@ static void set_point_data(const sph_scene *scene, int b, sph_particles *out, lo
                            const double x[3]) {
     const int dim = scene->dim;
     const sph_body *body = &scene->bodies[b];
-    const sph_material *mat = &scene->materials[body->material];
+    /* the body's material, or that of its first region holding x */
+    const int material = sph_body_material_at(scene, b, x);
+    const sph_material *mat = &scene->materials[material];
+    if (out->material) {
+        int row_of[SPH_MAX_MATERIALS];
+        sph_scene_material_rows(scene, row_of);
+        out->material[n] = (uint8_t)row_of[material];
+    }
     double v[3];
     sph_velocity_field_eval(scene, body, x, v);
     for (int a = 0; a < dim; a++) out->vel[(size_t)a * (size_t)out->n + (size_t)n] = v[a];
@@ -560,6 +567,57 @@ static void body_span(const sph_particles *p, long start, long count, double lo[
  * than dp between lattice points), or whose particles all take a constraint
  * listed before it, would leave the body silently unconstrained there.
  * Checked on the lattice; relax_bodies checks the relaxed positions. */
+/* The box of shape `shape` and that of the body's particles [start, start +
+ * count), as text for messages. */
+#define SPAN_TEXT 200
+static void region_and_body_spans(const sph_scene *scene, const sph_particles *p, int shape,
+                                  long start, long count, char rs[SPAN_TEXT], char bs[SPAN_TEXT]) {
+    double rlo[3], rhi[3], blo[3], bhi[3];
+    sph_shape_bounds(scene, shape, rlo, rhi);
+    body_span(p, start, count, blo, bhi);
+    format_span(rlo, rhi, scene->dim, rs, SPAN_TEXT);
+    format_span(blo, bhi, scene->dim, bs, SPAN_TEXT);
+}
+
+/* Every region of a body must give its material to some of the body's
+ * particles: a region outside the body, or inside an earlier region of it,
+ * would change nothing. */
+static sph_status check_material_regions(const sph_scene *scene, const sph_particles *p,
+                                         sph_error *err) {
+    const int dim = scene->dim;
+    const size_t n = (size_t)p->n;
+    long start = 0;
+    for (int b = 0; b < scene->nbodies; b++) {
+        const sph_body *body = &scene->bodies[b];
+        const long count = p->body_count[b];
+        long given[SPH_SCENE_MAX_REGIONS] = {0};
+        for (long i = start; i < start + count && body->nregions > 0; i++) {
+            double x[3] = {0, 0, 0};
+            for (int a = 0; a < dim; a++) x[a] = p->pos[(size_t)a * n + (size_t)i];
+            for (int k = 0; k < body->nregions; k++)
+                if (sph_shape_contains(scene, body->regions[k].shape, x)) {
+                    given[k]++;
+                    break;
+                }
+        }
+        for (int k = 0; k < body->nregions; k++) {
+            if (given[k] > 0) continue;
+            const sph_region *r = &body->regions[k];
+            char rs[SPAN_TEXT], bs[SPAN_TEXT];
+            region_and_body_spans(scene, p, r->shape, start, count, rs, bs);
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s: region '%s' (within %s) gives material '%s' to none of the "
+                            "%ld particles of body '%s' (%s, spacing dp = %g): it lies outside "
+                            "the body or inside an earlier region of it; make it overlap the "
+                            "part of that material",
+                            r->where, scene->shapes[r->shape].name, rs,
+                            scene->materials[r->material].name, count, body->name, bs, scene->dp);
+        }
+        start += count;
+    }
+    return SPH_OK;
+}
+
 static sph_status check_constraint_regions(const sph_scene *scene, const sph_particles *p,
                                            sph_error *err) {
     const int dim = scene->dim;
@@ -581,12 +639,8 @@ static sph_status check_constraint_regions(const sph_scene *scene, const sph_par
             const sph_constraint *con = &body->constraints[k];
             const char *region = scene->shapes[con->region].name;
             if (held[k] == 0) {
-                double rlo[3], rhi[3], blo[3], bhi[3];
-                char rs[200], bs[200];
-                sph_shape_bounds(scene, con->region, rlo, rhi);
-                body_span(p, start, count, blo, bhi);
-                format_span(rlo, rhi, dim, rs, sizeof rs);
-                format_span(blo, bhi, dim, bs, sizeof bs);
+                char rs[SPAN_TEXT], bs[SPAN_TEXT];
+                region_and_body_spans(scene, p, con->region, start, count, rs, bs);
                 return sph_fail(err, SPH_ERR_INPUT,
                                 "%s: region '%s' (within %s) holds none of the %ld particles "
                                 "of body '%s' (%s, spacing dp = %g), so the constraint "
@@ -747,6 +801,9 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
 
     bool any_constraint = false;
     for (int b = 0; b < scene->nbodies; b++) any_constraint |= scene->bodies[b].nconstraints > 0;
+    /* several materials: each particle's row of the material table */
+    int row_of[SPH_MAX_MATERIALS];
+    const bool with_materials = sph_scene_material_rows(scene, row_of) > 1;
     /* the ideal gas's initial pressure: one more double a particle */
     const bool with_pressure = scene->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
     /* fluid scenes with wall bodies or a far field: each particle's kind and
@@ -756,6 +813,7 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     const double each =
         (double)sph_particles_bytes_each(dim, any_constraint) +
         (with_pressure ? (double)sizeof(double) : 0.0) +
+        (with_materials ? (double)sizeof(uint8_t) : 0.0) +
         (with_kinds ? (double)(sizeof(uint8_t) + (size_t)dim * sizeof(double)) : 0.0);
     char available[256], need[32];
 
@@ -843,14 +901,15 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     out->id = malloc(n * sizeof *out->id);
     out->body = malloc(n * sizeof *out->body);
     if (any_constraint) out->fixed = malloc(n * sizeof *out->fixed);
+    if (with_materials) out->material = malloc(n * sizeof *out->material);
     if (with_pressure) out->pressure = calloc(n, sizeof *out->pressure);
     if (with_kinds) {
         out->kind = calloc(n, sizeof *out->kind);
         out->normal = calloc((size_t)dim * n, sizeof *out->normal);
     }
     if (!out->pos || !out->vel || !out->mass || !out->rho || !out->id || !out->body ||
-        (any_constraint && !out->fixed) || (with_pressure && !out->pressure) ||
-        (with_kinds && (!out->kind || !out->normal))) {
+        (any_constraint && !out->fixed) || (with_materials && !out->material) ||
+        (with_pressure && !out->pressure) || (with_kinds && (!out->kind || !out->normal))) {
         sph_particles_free(out);
         sph_format_bytes((double)total * each, need, sizeof need);
         return sph_fail(err, SPH_ERR_RUNTIME, "out of memory allocating %zu particles (%s); %s", n,
@@ -862,6 +921,7 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
     out->fixed_count = 0;
     for (size_t i = 0; out->fixed && i < n; i++) out->fixed_count += out->fixed[i] != 0;
     sph_status rst = check_constraint_regions(scene, out, err);
+    if (!rst) rst = check_material_regions(scene, out, err);
     if (!rst) rst = relax_bodies(scene, origin, force_relax, out, err);
     if (!rst) rst = apply_velocity_expressions(scene, out, err);
     if (!rst) rst = apply_fluid_state(scene, out, err);
@@ -954,6 +1014,7 @@ void sph_particles_free(sph_particles *p) {
     free(p->id);
     free(p->body);
     free(p->fixed);
+    free(p->material);
     free(p->kind);
     free(p->normal);
     memset(p, 0, sizeof *p);

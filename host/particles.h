@@ -45,6 +45,9 @@ typedef struct {
     double *normal;
     int32_t *id;   /* [n] */
     uint8_t *body; /* [n]  index into scene->bodies */
+    /* [n] the row of the run's material table (sph_scene_material_rows);
+     * NULL in a scene of one material */
+    uint8_t *material;
     /* [n] 0: free; k + 1: constrained by entry k of the scene's constraint
      * table (sph_constraint_index); NULL if the scene has no constraint */
     uint8_t *fixed;

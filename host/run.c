@@ -274,6 +274,17 @@ static json_object *resolved_json(const sph_simulation *sim) {
         json_object *o = json_object_new_object();
         json_object_object_add(o, "name", sph_json_string(sc->bodies[b].name));
         json_object_object_add(o, "particles", json_object_new_int(sim->particles.body_count[b]));
+        /* its material, and those of its regions in order */
+        const sph_body *body = &sc->bodies[b];
+        json_object_object_add(o, "material",
+                               sph_json_string(sc->materials[body->material].name));
+        if (body->nregions > 0) {
+            json_object *regions = json_object_new_array();
+            for (int k = 0; k < body->nregions; ++k)
+                json_object_array_add(
+                    regions, sph_json_string(sc->materials[body->regions[k].material].name));
+            json_object_object_add(o, "region_materials", regions);
+        }
         json_object_array_add(bodies, o);
     }
     json_object_object_add(res, "bodies", bodies);
@@ -355,6 +366,7 @@ static json_object *summary_json(const sph_simulation *sim) {
     json_object_object_add(features, "torque_projection",
                            json_object_new_boolean(f->torque_projection));
     json_object_object_add(features, "bodies", json_object_new_int(f->nbodies));
+    json_object_object_add(features, "materials", json_object_new_int(f->materials));
     json_object_object_add(features, "contact", json_object_new_boolean(f->contact));
     json_object_object_add(features, "walls", json_object_new_int(f->walls));
     json_object_object_add(features, "precision", sph_json_string(sph_precision_name(f)));
@@ -459,6 +471,32 @@ static json_object *summary_json(const sph_simulation *sim) {
         json_object_object_add(metrics, "first_period", num(m->first_period));
         json_object_object_add(metrics, "max_observer_displacement",
                                num(m->max_observer_displacement));
+    }
+    /* each traction observer's first pulse (analysis.h) */
+    for (int o = 0; o < sc->nobservers; ++o) {
+        if (sc->observers[o].quantity != SPH_OBSERVE_TRACTION) continue;
+        char key[SPH_NAME_LEN + 16];
+        snprintf(key, sizeof key, "%s_first_pulse", sc->observers[o].name);
+        json_object_object_add(metrics, key, num(sph_first_pulse(&sim->series, sc, o)));
+    }
+    if (sc->wave_incident >= 0 && sc->wave_transmitted >= 0 &&
+        sc->wave_incident != sc->wave_transmitted) {
+        /* a pulse through an interface against the 1D relations (analysis.h) */
+        const sph_wave_metrics *wm = &sim->wave_metrics;
+        const struct {
+            const char *name;
+            double value;
+        } wave[] = {{"incident_stress", wm->incident},
+                    {"reflected_stress", wm->reflected},
+                    {"transmitted_stress", wm->transmitted},
+                    {"transmitted_stress_ratio", wm->transmitted_ratio},
+                    {"transmitted_stress_ratio_theory", wm->transmitted_ratio_theory},
+                    {"reflected_stress_ratio", wm->reflected_ratio},
+                    {"reflected_stress_ratio_theory", wm->reflected_ratio_theory},
+                    {"impedance_incident", wm->impedance_incident},
+                    {"impedance_transmitted", wm->impedance_transmitted}};
+        for (size_t k = 0; k < sizeof wave / sizeof wave[0]; ++k)
+            json_object_object_add(metrics, wave[k].name, num(wave[k].value));
     }
     if (SPH_FORMULATION_IS_EULERIAN(sc->formulation)) {
         /* fluids: conservation, and the forces on the walls over the
@@ -628,6 +666,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
     sph_metrics_compute(&sim->series, sim->scene.period_observer, sim->scene.period_axis, &initial,
                         not_conserved, &sim->metrics);
     sph_fluid_metrics_compute(&sim->series, &sim->scene, &sim->fluid_metrics);
+    sph_wave_metrics_compute(&sim->series, &sim->scene, &sim->wave_metrics);
     if (outp) {
         /* a run the instability monitor stopped keeps its results, marked
          * "unstable" in summary.json */

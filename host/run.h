@@ -71,6 +71,7 @@ typedef struct {
     sph_run_stats stats;
     sph_metrics metrics;
     sph_fluid_metrics fluid_metrics; /* fluid scenes (the eulerian formulations) */
+    sph_wave_metrics wave_metrics;   /* scenes with analysis.wave */
     double setup_seconds;
     bool scene_loaded;
     double restart_time; /* NAN unless restarted */

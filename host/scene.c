@@ -2200,14 +2200,69 @@ static sph_status parse_role(loader *L, const config_setting_t *b, sph_body *bod
     return SPH_OK;
 }
 
+/* The material named by key "material" of group g. */
+static sph_status get_material(loader *L, const config_setting_t *g, int *out) {
+    const sph_scene *sc = L->scene;
+    const config_setting_t *at;
+    const char *material = "";
+    sph_status st = get_name(L, g, "material", &material, &at);
+    if (st) return st;
+    *out = find_material(sc, material);
+    if (*out >= 0) return SPH_OK;
+    const char *names[SPH_MAX_MATERIALS];
+    for (int i = 0; i < sc->nmaterials; i++) names[i] = sc->materials[i].name;
+    char hint[1024];
+    suggest(material, names, sc->nmaterials, "defined materials", hint, sizeof hint);
+    return fail_at(L, at, NULL, "unknown material '%s'%s", material, hint);
+}
+
+/* bodies.X.regions = ( { shape; material; }, ... ): parts of the body's
+ * shape made of other materials (scene.h, sph_region).  Solids of the
+ * updated-Lagrangian formulations only (checked with the materials in
+ * check_material_count). */
+static sph_status parse_regions(loader *L, const config_setting_t *b, sph_body *body) {
+    const config_setting_t *list, *at;
+    body->nregions = 0;
+    sph_status st = get_list(L, b, "regions", false, &list);
+    if (st || !list) return st;
+    if (body->role == SPH_BODY_WALL)
+        return fail_at(L, list, NULL,
+                       "body '%s' is a wall (role = \"wall\"): a wall has no material of its "
+                       "own, so it takes no regions",
+                       body->name);
+    const int n = config_setting_length(list);
+    if (n < 1 || n > SPH_SCENE_MAX_REGIONS)
+        return fail_at(L, list, NULL, "expected 1 to %d regions per body, got %d",
+                       SPH_SCENE_MAX_REGIONS, n);
+    for (int k = 0; k < n; k++) {
+        const config_setting_t *r = config_setting_get_elem(list, (unsigned)k);
+        if (!config_setting_is_group(r))
+            return fail_at(L, r, NULL, "expected a region group { shape; material; }, got %s",
+                           type_name(config_setting_type(r)));
+        sph_region *region = &body->regions[k];
+        const char *shape = "";
+        if ((st = check_keys(L, r, KEYS("shape", "material"))) ||
+            (st = get_name(L, r, "shape", &shape, &at)))
+            return st;
+        region->shape = find_named_shape(L, shape);
+        if (region->shape < 0) return unknown_shape(L, at, shape);
+        where_of(L, r, region->where, sizeof region->where);
+        if ((st = get_member(L, r, "material", true, &at)) ||
+            (st = get_material(L, r, &region->material)))
+            return st;
+    }
+    body->nregions = n;
+    return SPH_OK;
+}
+
 static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     sph_scene *sc = L->scene;
     sph_body *body = &sc->bodies[index];
     const config_setting_t *at, *vel, *cons;
-    const char *name = "", *material = "", *shape = "";
+    const char *name = "", *shape = "";
     sph_status st = named_group_element(
         L, b, index, "a body group { name; material; shape; }", "body", "bodies",
-        KEYS("name", "material", "shape", "initial_velocity", "constraints", "placement",
+        KEYS("name", "material", "shape", "regions", "initial_velocity", "constraints", "placement",
              "relaxation", "initial_density", "initial_pressure", "role", "spacing"),
         sc->bodies[0].name, sizeof sc->bodies[0], &name, &at);
     if (st) return st;
@@ -2219,15 +2274,7 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     /* a wall body takes the scene's one fluid material when it names none */
     if ((st = get_member(L, b, "material", !wall, &at))) return st;
     if (at) {
-        if ((st = get_name(L, b, "material", &material, &at))) return st;
-        body->material = find_material(sc, material);
-        if (body->material < 0) {
-            const char *names[SPH_MAX_MATERIALS];
-            for (int i = 0; i < sc->nmaterials; i++) names[i] = sc->materials[i].name;
-            char hint[1024];
-            suggest(material, names, sc->nmaterials, "defined materials", hint, sizeof hint);
-            return fail_at(L, at, NULL, "unknown material '%s'%s", material, hint);
-        }
+        if ((st = get_material(L, b, &body->material))) return st;
     } else {
         body->material = 0;
     }
@@ -2311,7 +2358,7 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
                            SPH_MAX_CONSTRAINTS);
     }
     body->nconstraints = nc;
-    return SPH_OK;
+    return parse_regions(L, b, body);
 }
 
 static sph_status parse_bodies(loader *L, const config_setting_t *root) {
@@ -2342,6 +2389,41 @@ static sph_status parse_bodies(loader *L, const config_setting_t *root) {
     return SPH_OK;
 }
 
+/* observers.X.quantity ("position", the default, or "traction") and, for a
+ * traction, its plane's normal. */
+static sph_status parse_observed(loader *L, const config_setting_t *o, sph_observer *obs) {
+    const sph_scene *sc = L->scene;
+    const config_setting_t *at;
+    int quantity = SPH_OBSERVE_POSITION;
+    sph_status st = get_keyword(L, o, "quantity", false, SPH_OBSERVE_POSITION,
+                                KEYS("position", "traction"), &quantity, &at);
+    if (st) return st;
+    obs->quantity = (sph_observed)quantity;
+    const config_setting_t *normal = config_setting_get_member(o, "normal");
+    if (quantity == SPH_OBSERVE_POSITION) {
+        if (normal)
+            return fail_at(L, normal, NULL,
+                           "is the plane of a traction (quantity = \"traction\"); observer '%s' "
+                           "reports its position",
+                           obs->name);
+        return SPH_OK;
+    }
+    if (SPH_FORMULATION_IS_EULERIAN(sc->formulation) || sc->formulation == SPH_FORMULATION_TLSPH)
+        return fail_at(L, at, NULL,
+                       "a traction observer reads the Cauchy stress -p I + tau of the "
+                       "updated-Lagrangian solids; formulation \"%s\" has no such stress",
+                       sph_formulation_name(sc->formulation));
+    if ((st = get_vector(L, o, "normal", true, sc->dim, obs->normal, &at))) return st;
+    double norm = 0.0;
+    for (int a = 0; a < sc->dim; ++a) norm += obs->normal[a] * obs->normal[a];
+    norm = sqrt(norm);
+    if (!(norm > 0.0) || !isfinite(norm))
+        return fail_at(L, at, NULL,
+                       "must be a non-zero vector (the normal of the traction's plane)");
+    for (int a = 0; a < sc->dim; ++a) obs->normal[a] /= norm;
+    return SPH_OK;
+}
+
 static sph_status parse_observers(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
     const config_setting_t *list;
@@ -2354,8 +2436,8 @@ static sph_status parse_observers(loader *L, const config_setting_t *root) {
         const config_setting_t *o = config_setting_get_elem(list, (unsigned)i), *at;
         const char *name = "";
         if ((st = named_group_element(L, o, i, "an observer group { name; position; }", "observer",
-                                      "observers", KEYS("name", "position"), sc->observers[0].name,
-                                      sizeof sc->observers[0], &name, &at)))
+                                      "observers", KEYS("name", "position", "quantity", "normal"),
+                                      sc->observers[0].name, sizeof sc->observers[0], &name, &at)))
             return st;
         if (sph_observer_name_reserved(name))
             return fail_at(L, at, NULL,
@@ -2365,42 +2447,91 @@ static sph_status parse_observers(loader *L, const config_setting_t *root) {
         if ((st = get_vector(L, o, "position", true, sc->dim, sc->observers[i].position, &at)))
             return st;
         where_of(L, at, sc->observers[i].where, sizeof sc->observers[i].where);
+        if ((st = parse_observed(L, o, &sc->observers[i]))) return st;
     }
     sc->nobservers = n;
     return SPH_OK;
 }
 
+/* The observer named by key `key` of group g. */
+static sph_status get_observer(loader *L, const config_setting_t *g, const char *key, int *out) {
+    const sph_scene *sc = L->scene;
+    const config_setting_t *at;
+    const char *name = "";
+    sph_status st = get_name(L, g, key, &name, &at);
+    if (st) return st;
+    *out = -1;
+    for (int i = 0; i < sc->nobservers; i++)
+        if (strcmp(sc->observers[i].name, name) == 0) *out = i;
+    if (*out >= 0) return SPH_OK;
+    const char *names[SPH_SCENE_MAX_OBSERVERS];
+    for (int i = 0; i < sc->nobservers; i++) names[i] = sc->observers[i].name;
+    char hint[1024];
+    suggest(name, names, sc->nobservers, "defined observers", hint, sizeof hint);
+    return fail_at(L, at, NULL, "unknown observer '%s'%s", name, hint);
+}
+
+/* analysis.wave = { incident; transmitted; }: two traction observers with
+ * the same normal, on either side of an interface (host/analysis.h). */
+static sph_status parse_wave(loader *L, const config_setting_t *w) {
+    sph_scene *sc = L->scene;
+    sph_status st;
+    if ((st = check_keys(L, w, KEYS("incident", "transmitted"))) ||
+        (st = get_observer(L, w, "incident", &sc->wave_incident)) ||
+        (st = get_observer(L, w, "transmitted", &sc->wave_transmitted)))
+        return st;
+    const sph_observer *in = &sc->observers[sc->wave_incident],
+                       *out = &sc->observers[sc->wave_transmitted];
+    const char *key = in->quantity != SPH_OBSERVE_TRACTION ? "incident" : "transmitted";
+    if (in->quantity != SPH_OBSERVE_TRACTION || out->quantity != SPH_OBSERVE_TRACTION)
+        return fail_at(L, config_setting_get_member(w, key), NULL,
+                       "observer '%s' reports a position; the wave analysis reads the traction "
+                       "of two observers with quantity = \"traction\"",
+                       (in->quantity != SPH_OBSERVE_TRACTION ? in : out)->name);
+    if (sc->wave_incident == sc->wave_transmitted)
+        return fail_at(L, config_setting_get_member(w, "transmitted"), NULL,
+                       "is the incident observer too; the transmitted pulse is read on the other "
+                       "side of the interface");
+    double dot = 0.0;
+    for (int a = 0; a < sc->dim; ++a) dot += in->normal[a] * out->normal[a];
+    if (fabs(dot) < 1.0 - 1e-9)
+        return fail_at(L, config_setting_get_member(w, "transmitted"), NULL,
+                       "observers '%s' and '%s' have different normals; the wave analysis "
+                       "compares the normal traction on parallel planes",
+                       in->name, out->name);
+    return SPH_OK;
+}
+
 static sph_status parse_analysis(loader *L, const config_setting_t *root) {
     sph_scene *sc = L->scene;
-    const config_setting_t *g, *p, *at;
+    const config_setting_t *g, *p, *w;
     sph_status st = get_group(L, root, "analysis", false, &g);
     if (st || !g) return st;
-    if ((st = check_keys(L, g, KEYS("period"))) || (st = get_group(L, g, "period", false, &p)))
+    if ((st = check_keys(L, g, KEYS("period", "wave"))) ||
+        (st = get_group(L, g, "period", false, &p)) || (st = get_group(L, g, "wave", false, &w)))
         return st;
+    if (w && (st = parse_wave(L, w))) return st;
     if (!p) return SPH_OK;
-    const char *name = "";
     if ((st = check_keys(L, p, KEYS("observer", "axis"))) ||
-        (st = get_name(L, p, "observer", &name, &at)))
+        (st = get_observer(L, p, "observer", &sc->period_observer)))
         return st;
-    for (int i = 0; i < sc->nobservers; i++)
-        if (strcmp(sc->observers[i].name, name) == 0) sc->period_observer = i;
-    if (sc->period_observer < 0) {
-        const char *names[SPH_SCENE_MAX_OBSERVERS];
-        for (int i = 0; i < sc->nobservers; i++) names[i] = sc->observers[i].name;
-        char hint[1024];
-        suggest(name, names, sc->nobservers, "defined observers", hint, sizeof hint);
-        return fail_at(L, at, NULL, "unknown observer '%s'%s", name, hint);
-    }
+    if (sc->observers[sc->period_observer].quantity != SPH_OBSERVE_POSITION)
+        return fail_at(L, config_setting_get_member(p, "observer"), NULL,
+                       "observer '%s' reports a traction; the period is that of an observer's "
+                       "position",
+                       sc->observers[sc->period_observer].name);
     return get_axis(L, p, "axis", true, 0, &sc->period_axis);
 }
 
 static const char *const OUTPUT_FIELD_NAMES[SPH_OUT_COUNT] = {
-    "velocity", "displacement", "density",        "pressure",  "von_mises",  "shear_stress",
-    "body_id",  "particle_id",  "plastic_strain", "vorticity", "mach_number"};
+    "velocity", "displacement", "density",        "pressure",  "von_mises",   "shear_stress",
+    "body_id",  "particle_id",  "plastic_strain", "vorticity", "mach_number", "material_id"};
 
 static bool scene_is_plastic(const sph_scene *sc) {
-    for (int b = 0; b < sc->nbodies; ++b)
-        if (sc->materials[sc->bodies[b].material].plastic) return true;
+    int row_of[SPH_MAX_MATERIALS];
+    sph_scene_material_rows(sc, row_of);
+    for (int k = 0; k < sc->nmaterials; ++k)
+        if (row_of[k] >= 0 && sc->materials[k].plastic) return true;
     return false;
 }
 
@@ -2435,6 +2566,9 @@ static sph_status parse_output(loader *L, const config_setting_t *root) {
     }
     const bool plastic = scene_is_plastic(sc);
     sc->output_field[SPH_OUT_PLASTIC_STRAIN] = plastic;
+    int row_of[SPH_MAX_MATERIALS];
+    const bool several_materials = sph_scene_material_rows(sc, row_of) > 1;
+    sc->output_field[SPH_OUT_MATERIAL_ID] = several_materials;
     sc->snapshot_interval = 10.0 * sc->output_interval;
     if (g) {
         if ((st = check_keys(L, g, KEYS("snapshot_interval", "fields"))) ||
@@ -2529,15 +2663,16 @@ static sph_status check_material_model(loader *L, const config_setting_t *root) 
     const config_setting_t *form_at = config_setting_get_member(method, "formulation");
     bool plastic = false;
     const char *plastic_material = "";
-    for (int b = 0; b < sc->nbodies; ++b) {
-        const sph_material *m = &sc->materials[sc->bodies[b].material];
+    /* every material a body or a region uses */
+    int row_of[SPH_MAX_MATERIALS];
+    const int rows = sph_scene_material_rows(sc, row_of);
+    for (int k = 0; k < sc->nmaterials; ++k) {
+        const sph_material *m = &sc->materials[k];
+        if (row_of[k] < 0) continue;
         if (m->plastic) {
             plastic = true;
             plastic_material = m->name;
         }
-    }
-    for (int b = 0; b < sc->nbodies; ++b) {
-        const sph_material *m = &sc->materials[sc->bodies[b].material];
         if (m->elastic_model != ELASTIC_MODEL_SVK && sc->formulation != SPH_FORMULATION_TLSPH)
             return fail_at(L, form_at, NULL,
                            "material '%s' has a hyperelastic model (neo-Hookean or "
@@ -2545,6 +2680,20 @@ static sph_status check_material_model(loader *L, const config_setting_t *root) 
                            "hypoelastic (Jaumann stress rate): use \"tlsph\", or leave the "
                            "material's model out",
                            m->name, sph_formulation_name(sc->formulation));
+    }
+    /* several materials: the interface terms of device/sph_materials.h are
+     * those of the updated-Lagrangian solids */
+    if (rows > 1 && (sc->formulation == SPH_FORMULATION_TLSPH ||
+                     SPH_FORMULATION_IS_EULERIAN(sc->formulation))) {
+        const char *names[2] = {"", ""};
+        for (int k = 0; k < sc->nmaterials; ++k)
+            if (row_of[k] >= 0 && row_of[k] < 2) names[row_of[k]] = sc->materials[k].name;
+        return fail_at(L, form_at, NULL,
+                       "the bodies and regions of this scene use %d materials ('%s', '%s', ...); "
+                       "formulation \"%s\" runs one material: several materials are "
+                       "implemented for the updated-Lagrangian solids (\"enog\", \"enog-a\", "
+                       "\"og\", \"oas\", \"gnog\", \"gnog-a\")",
+                       rows, names[0], names[1], sph_formulation_name(sc->formulation));
     }
     if (plastic && FORM_IS_ENOG(sc->formulation))
         return fail_at(L, form_at, NULL,
@@ -3078,6 +3227,7 @@ static sph_status load(sph_scene *scene, const char *path, const char *text,
                        const char *const *overrides, int noverrides, sph_error *err) {
     memset(scene, 0, sizeof *scene);
     scene->period_observer = -1;
+    scene->wave_incident = scene->wave_transmitted = -1;
     scene->acceleration_criterion = true;
     if (!path) return sph_fail(err, SPH_ERR_INPUT, "no scene file given");
     if (strlen(path) >= sizeof scene->path)
@@ -3306,6 +3456,26 @@ int sph_constraint_index(const sph_scene *scene, int body, int constraint) {
     int k = 0;
     for (int b = 0; b < body; b++) k += scene->bodies[b].nconstraints;
     return k + constraint;
+}
+
+int sph_scene_material_rows(const sph_scene *scene, int row_of[SPH_MAX_MATERIALS]) {
+    for (int m = 0; m < SPH_MAX_MATERIALS; m++) row_of[m] = -1;
+    int rows = 0;
+    for (int b = 0; b < scene->nbodies; b++) {
+        const sph_body *body = &scene->bodies[b];
+        for (int k = -1; k < body->nregions; k++) {
+            const int m = k < 0 ? body->material : body->regions[k].material;
+            if (m >= 0 && m < SPH_MAX_MATERIALS && row_of[m] < 0) row_of[m] = rows++;
+        }
+    }
+    return rows;
+}
+
+int sph_body_material_at(const sph_scene *scene, int body, const double x[3]) {
+    const sph_body *b = &scene->bodies[body];
+    for (int k = 0; k < b->nregions; k++)
+        if (sph_shape_contains(scene, b->regions[k].shape, x)) return b->regions[k].material;
+    return b->material;
 }
 
 int sph_constraint_count(const sph_scene *scene) {

@@ -27,6 +27,7 @@
 #define SPH_SCENE_MAX_SHAPES      64
 #define SPH_SCENE_MAX_SHAPE_PARTS 16
 #define SPH_SCENE_MAX_CONSTRAINTS 8
+#define SPH_SCENE_MAX_REGIONS     8 /* material regions per body */
 #define SPH_SCENE_MAX_OBSERVERS   16
 #define SPH_SCENE_MAX_CONSTANTS   32 /* named constants of the expressions */
 #define SPH_SCENE_PATH_LEN        1024
@@ -172,6 +173,19 @@ typedef struct {
     char where[SPH_SCENE_WHERE_LEN];
 } sph_constraint;
 
+/* bodies.X.regions[k]: the particles of the body inside `shape` are of
+ * `material` instead of the body's own (the first region that holds a
+ * particle decides); the parts are bonded: they share the body's neighbour
+ * lists, and every pair across the interface takes the two-material terms
+ * of device/sph_materials.h. */
+typedef struct {
+    int shape;    /* index into shapes */
+    int material; /* index into materials */
+    /* "<file>:<line>: bodies.<name>.regions.[k]" (see sph_body.where), for
+     * a region that selects none of the body's particles (particles.c) */
+    char where[SPH_SCENE_WHERE_LEN];
+} sph_region;
+
 /* How a body's particles are placed (particles.c, relax.c). */
 typedef enum {
     SPH_PLACEMENT_LATTICE = 0, /* cell centres of the dp lattice */
@@ -208,6 +222,8 @@ typedef struct {
     sph_relaxation relaxation; /* placement == SPH_PLACEMENT_RELAXED */
     int nconstraints;
     sph_constraint constraints[SPH_SCENE_MAX_CONSTRAINTS];
+    int nregions;
+    sph_region regions[SPH_SCENE_MAX_REGIONS];
     /* fluid bodies: initial density and pressure as expressions of x, y, z
      * and the scene's constants ("": not given; the material's density, the
      * pressure of the EOS); *_where as expression_where of the velocity */
@@ -220,9 +236,19 @@ typedef struct {
     char where[SPH_SCENE_WHERE_LEN];
 } sph_body;
 
+/* What an observer reports (observers.<name>.quantity). */
+typedef enum {
+    SPH_OBSERVE_POSITION = 0, /* its material point's position: <name>_x, ... */
+    /* the traction sigma . n on the plane of unit normal n through it,
+     * sigma = -p I + tau of the solid: <name>_traction_x, ... */
+    SPH_OBSERVE_TRACTION = 1
+} sph_observed;
+
 typedef struct {
     char name[SPH_NAME_LEN];
     double position[3];
+    sph_observed quantity;
+    double normal[3]; /* unit; SPH_OBSERVE_TRACTION */
     /* "<file>:<line>: observers.<name>.position" (see sph_body.where) */
     char where[SPH_SCENE_WHERE_LEN];
 } sph_observer;
@@ -246,6 +272,7 @@ typedef enum {
     SPH_OUT_PLASTIC_STRAIN, /* plastic materials only */
     SPH_OUT_VORTICITY,      /* fluids: curl v (2D: the z component) */
     SPH_OUT_MACH_NUMBER,    /* fluids, compressible: |v| / c */
+    SPH_OUT_MATERIAL_ID,    /* the material's index in the scene (several materials) */
     SPH_OUT_COUNT
 } sph_output_field;
 
@@ -357,6 +384,11 @@ typedef struct {
     char monitor_domain_where[SPH_SCENE_WHERE_LEN];
     sph_monitor_action monitor_action;
 
+    /* analysis.wave: a stress pulse's transmission through an interface,
+     * from two traction observers (host/analysis.h, sph_wave_metrics):
+     * the incident (and reflected) pulse at one, the transmitted at the
+     * other; -1: none */
+    int wave_incident, wave_transmitted;
     /* analysis: first oscillation period of an observer's coordinate */
     int period_observer; /* -1: none */
     int period_axis;
@@ -402,6 +434,15 @@ int sph_constraint_count(const sph_scene *scene);
 const sph_constraint *sph_constraint_at(const sph_scene *scene, int index);
 /* true when a constraint prescribes a non-zero velocity (external work) */
 bool sph_scene_has_driven_constraint(const sph_scene *scene);
+
+/* The rows of a run's material table: the scene's materials that a body
+ * or a region uses, in order of first use (body by body, its own material
+ * before its regions'); row_of[m] is material m's row, -1 when unused.
+ * Returns the number of rows (1 for every scene of one material). */
+int sph_scene_material_rows(const sph_scene *scene, int row_of[SPH_MAX_MATERIALS]);
+/* The material (an index into scene->materials) of body b's particle at x:
+ * that of its first region holding x, else the body's. */
+int sph_body_material_at(const sph_scene *scene, int body, const double x[3]);
 
 const char *sph_formulation_name(sph_formulation f);
 

@@ -94,6 +94,7 @@ sph_status sph_snapshots_open(sph_snapshots *s, const char *run_dir,
     s->alpha = malloc(nn * sizeof(double));
     s->id = malloc(nn * sizeof(int32_t));
     s->body = calloc(nn, 1);
+    s->material = calloc(nn, 1);
     s->row_scratch = malloc(nn * 6 * sizeof(double));
     s->fluid = SPH_FORMULATION_IS_EULERIAN(ctx->scene->formulation);
     if (s->fluid) {
@@ -101,7 +102,7 @@ sph_status sph_snapshots_open(sph_snapshots *s, const char *run_dir,
         s->vorticity = malloc(nn * 3 * sizeof(double));
     }
     if (!s->times || !s->pos || !s->vel || !s->rho || !s->tau || !s->alpha || !s->id || !s->body ||
-        !s->row_scratch || (s->fluid && (!s->pressure || !s->vorticity)))
+        !s->material || !s->row_scratch || (s->fluid && (!s->pressure || !s->vorticity)))
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for snapshots");
     for (int k = 0; k < keep; ++k) s->times[k] = kept_times[k];
     s->count = keep;
@@ -226,7 +227,7 @@ static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *
             return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for a snapshot");
         }
         double *vm = p + n;
-        k->stress_output(s->ctx.prm, n, s->rho, s->tau, p, vm, t6);
+        k->stress_output(s->ctx.prm, n, s->rho, s->tau, s->material, p, vm, t6);
         if (want_p) {
             by_id(s, p, 1, 1, rows);
             st = sph_h5_write(w, pd, "pressure", H5T_NATIVE_DOUBLE, real_type, 1, scalar_dims, rows,
@@ -263,11 +264,22 @@ static sph_status write_ids(const sph_snapshots *s, const sph_h5_writer *w, hid_
     double *rows = s->row_scratch;
     const hsize_t scalar_dims[1] = {(hsize_t)n};
     sph_status st = SPH_OK;
-    if (sc->output_field[SPH_OUT_BODY_ID] || sc->output_field[SPH_OUT_PARTICLE_ID]) {
+    if (sc->output_field[SPH_OUT_BODY_ID] || sc->output_field[SPH_OUT_PARTICLE_ID] ||
+        sc->output_field[SPH_OUT_MATERIAL_ID]) {
         int32_t *ints = (int32_t *)rows; /* n int32 fit in the n*6 doubles */
         if (sc->output_field[SPH_OUT_BODY_ID]) {
             for (int i = 0; i < n; ++i) ints[s->id[i]] = s->body[i];
             st = sph_h5_write(w, pd, "body_id", H5T_NATIVE_INT32, H5T_STD_I32LE, 1, scalar_dims,
+                              ints, err);
+        }
+        if (!st && sc->output_field[SPH_OUT_MATERIAL_ID]) {
+            /* the material's index in the scene's materials list */
+            int row_of[SPH_MAX_MATERIALS], scene_index[SPH_MAX_MATERIALS] = {0};
+            sph_scene_material_rows(sc, row_of);
+            for (int m = 0; m < SPH_MAX_MATERIALS; ++m)
+                if (row_of[m] >= 0) scene_index[row_of[m]] = m;
+            for (int i = 0; i < n; ++i) ints[s->id[i]] = scene_index[s->material[i]];
+            st = sph_h5_write(w, pd, "material_id", H5T_NATIVE_INT32, H5T_STD_I32LE, 1, scalar_dims,
                               ints, err);
         }
         if (!st && sc->output_field[SPH_OUT_PARTICLE_ID]) {
@@ -413,6 +425,12 @@ sph_status sph_snapshots_write(sph_snapshots *s, sph_backend *be, double t, long
     }
     if (!st && sc->output_field[SPH_OUT_PLASTIC_STRAIN])
         st = be->ops->download(be, FIELD_PLASTIC_STRAIN, s->alpha, err);
+    if (!st && (want_stress || sc->output_field[SPH_OUT_MATERIAL_ID])) {
+        if (be->fields[FIELD_MATERIAL].present)
+            st = be->ops->download(be, FIELD_MATERIAL, s->material, err);
+        else
+            memset(s->material, 0, (size_t)s->n);
+    }
     if (!st && sc->output_field[SPH_OUT_BODY_ID]) {
         if (be->fields[FIELD_BODY].present)
             st = be->ops->download(be, FIELD_BODY, s->body, err);
@@ -444,6 +462,7 @@ void sph_snapshots_close(sph_snapshots *s) {
     free(s->alpha);
     free(s->id);
     free(s->body);
+    free(s->material);
     free(s->row_scratch);
     free(s->pressure);
     free(s->vorticity);

@@ -48,6 +48,7 @@ typedef struct {
     bool fluid;
     int32_t *id;
     uint8_t *body;
+    uint8_t *material;   /* row of the run's material table (0 with one material) */
     double *row_scratch; /* [n * 6] */
 } sph_snapshots;
 

@@ -1,5 +1,6 @@
 #include "solver.h"
 
+#include "backend_cpu.h"
 #include "instability.h"
 #include "progress.h"
 #include "sph_constants.h"
@@ -15,7 +16,22 @@ typedef struct {
     double *pos;
     int32_t *id, *slot;
     double *obs;
+    /* traction observers: the state the stress comes from, and the stress */
+    double *rho, *tau, *pressure, *tensor6;
+    uint8_t *material;
 } sample_scratch;
+
+static void sample_scratch_free(sample_scratch *s) {
+    free(s->obs);
+    free(s->pos);
+    free(s->id);
+    free(s->slot);
+    free(s->rho);
+    free(s->tau);
+    free(s->pressure);
+    free(s->tensor6);
+    free(s->material);
+}
 
 /* What the monitor reduction says besides the time-series columns. */
 typedef struct {
@@ -55,8 +71,21 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
     if (a->observers->count > 0) {
         st = be->ops->download(be, FIELD_POS, s->pos, err);
         if (!st) st = be->ops->download(be, FIELD_ID, s->id, err);
+        if (!st && a->observers->traction) {
+            /* sigma = -p I + tau by the physics source (device/sph_elasticity.h) */
+            st = be->ops->download(be, FIELD_RHO, s->rho, err);
+            if (!st) st = be->ops->download(be, FIELD_TAU, s->tau, err);
+            if (!st && be->fields[FIELD_MATERIAL].present)
+                st = be->ops->download(be, FIELD_MATERIAL, s->material, err);
+            if (!st)
+                cpu_kernels_for(dim, true)->stress_output(
+                    a->prm, be->n, s->rho, s->tau,
+                    be->fields[FIELD_MATERIAL].present ? s->material : NULL, s->pressure, NULL,
+                    s->tensor6);
+        }
         if (st) return st;
-        sph_observers_eval(a->observers, be->n, s->pos, s->id, s->slot, s->obs);
+        sph_observers_eval(a->observers, be->n, s->pos, s->id, s->pressure, s->tensor6, s->slot,
+                           s->obs);
     }
     st = sph_timeseries_append(ts, t, &d, s->obs, err);
     if (!st && a->output) st = sph_output_row(a->output, t, &d, s->obs, err);
@@ -302,15 +331,26 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         s.id = malloc((size_t)n * sizeof(int32_t));
         s.slot = malloc((size_t)n * sizeof(int32_t));
     }
-    if (!s.obs || (a->observers->count > 0 && (!s.pos || !s.id || !s.slot))) {
-        free(s.obs);
-        free(s.pos);
-        free(s.id);
-        free(s.slot);
+    const bool traction = a->observers->traction;
+    if (traction) {
+        const size_t nn = (size_t)n, nsym = (size_t)(sc->dim * (sc->dim + 1) / 2);
+        s.rho = malloc(nn * sizeof(double));
+        s.tau = malloc(nn * nsym * sizeof(double));
+        s.pressure = malloc(nn * sizeof(double));
+        s.tensor6 = malloc(nn * 6 * sizeof(double));
+        s.material = malloc(nn);
+    }
+    if (!s.obs || (a->observers->count > 0 && (!s.pos || !s.id || !s.slot)) ||
+        (traction && (!s.rho || !s.tau || !s.pressure || !s.tensor6 || !s.material))) {
+        sample_scratch_free(&s);
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     }
 
-    const double h = a->prm->h, c0 = a->prm->materials[0].c0;
+    /* the fastest sound speed of the materials in use (rows past them are 0) */
+    const double h = a->prm->h;
+    double c0 = 0.0;
+    for (int m = 0; m < SPH_MAX_MATERIALS; ++m)
+        if (a->prm->materials[m].c0 > c0) c0 = a->prm->materials[m].c0;
     const bool dual = sc->stepping == SPH_STEPPING_DUAL;
     /* TLSPH (tl_step.cl) works on the reference configuration: the rebuild at
      * t = 0 gives the reference neighbours, pair geometry and B0, and there is
@@ -539,9 +579,6 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     if (stats->wall_seconds > 0)
         stats->particle_substeps_per_second =
             (double)n * (double)(stats->acoustic_steps - start_steps) / stats->wall_seconds;
-    free(s.obs);
-    free(s.pos);
-    free(s.id);
-    free(s.slot);
+    sample_scratch_free(&s);
     return st;
 }

@@ -88,13 +88,15 @@ static double particle_snapshot_bytes(const sph_scene *sc, bool double_precision
     const double real = double_precision ? 8.0 : 4.0;
     double b = 3.0 * real + 8.0 + 8.0 + 1.0;
     static const int comps[SPH_OUT_COUNT] = {
-        [SPH_OUT_VELOCITY] = 3, [SPH_OUT_DISPLACEMENT] = 3, [SPH_OUT_DENSITY] = 1,
-        [SPH_OUT_PRESSURE] = 1, [SPH_OUT_VON_MISES] = 1,    [SPH_OUT_SHEAR_STRESS] = 6,
-        [SPH_OUT_BODY_ID] = 1,  [SPH_OUT_PARTICLE_ID] = 1,  [SPH_OUT_PLASTIC_STRAIN] = 1,
+        [SPH_OUT_VELOCITY] = 3,    [SPH_OUT_DISPLACEMENT] = 3, [SPH_OUT_DENSITY] = 1,
+        [SPH_OUT_PRESSURE] = 1,    [SPH_OUT_VON_MISES] = 1,    [SPH_OUT_SHEAR_STRESS] = 6,
+        [SPH_OUT_BODY_ID] = 1,     [SPH_OUT_PARTICLE_ID] = 1,  [SPH_OUT_PLASTIC_STRAIN] = 1,
+        [SPH_OUT_MATERIAL_ID] = 1,
     };
     for (int k = 0; k < SPH_OUT_COUNT; ++k) {
         if (!sc->output_field[k]) continue;
-        const bool integer = k == SPH_OUT_BODY_ID || k == SPH_OUT_PARTICLE_ID;
+        const bool integer =
+            k == SPH_OUT_BODY_ID || k == SPH_OUT_PARTICLE_ID || k == SPH_OUT_MATERIAL_ID;
         b += comps[k] * (integer ? 4.0 : real);
     }
     return b;
@@ -104,11 +106,13 @@ void sph_work_estimate_compute(const sph_scene *sc, const sph_particles *p,
                                const sph_params_f64 *prm, const sph_work_request *rq,
                                sph_work_estimate *e) {
     memset(e, 0, sizeof *e);
+    /* the fastest material a body or a region uses */
+    int row_of[SPH_MAX_MATERIALS];
+    sph_scene_material_rows(sc, row_of);
     e->material = sc->bodies[0].material;
-    for (int b = 0; b < sc->nbodies; ++b) {
-        const int m = sc->bodies[b].material;
-        if (sc->materials[m].sound_speed > sc->materials[e->material].sound_speed) e->material = m;
-    }
+    for (int m = 0; m < sc->nmaterials && m < SPH_MAX_MATERIALS; ++m)
+        if (row_of[m] >= 0 && sc->materials[m].sound_speed > sc->materials[e->material].sound_speed)
+            e->material = m;
     e->sound_speed = sc->materials[e->material].sound_speed;
     /* the compressible fluid's sound speed is each particle's own,
      * sqrt(gamma p / rho) (device/sph_eulerian.h): its largest at the start */

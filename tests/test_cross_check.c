@@ -188,6 +188,20 @@ int main(void) {
                               "materials.plate.model=neo-hookean"};
     cross_check(&t, "oscillating_plate_2d", plate_nh, 3, SPH_PRECISION_DOUBLE, stored, 1e-10);
 
+    /* Several materials (device/sph_materials.h): the bimaterial bar's
+     * bonded steel and magnesium (the interface pairs' impedance and shear
+     * ratios) with GNOG-A, with ENOG-A on recomputed geometry, and with J2
+     * in the magnesium only (the steel's row never yields); the steel rod on
+     * the J2 aluminium plate (contact between two materials) */
+    const char *bar[] = {"resolution.dp=0.005"};
+    cross_check(&t, "bimaterial_bar", bar, 1, SPH_PRECISION_DOUBLE, stored, 1e-10);
+    const char *bar_enog_a[] = {"resolution.dp=0.005", "method.formulation=enog-a"};
+    cross_check(&t, "bimaterial_bar", bar_enog_a, 2, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
+    const char *bar_j2[] = {"resolution.dp=0.005", "materials.magnesium.yield_stress=2e6"};
+    cross_check(&t, "bimaterial_bar", bar_j2, 2, SPH_PRECISION_DOUBLE, recomputed, 1e-10);
+    const char *rod[] = {"resolution.dp=0.001"};
+    cross_check(&t, "impact_two_materials", rod, 1, SPH_PRECISION_DOUBLE, stored, 1e-10);
+
     /* J2 plasticity with every updated-Lagrangian formulation that takes it
      * (OG, OAS, GNOG, GNOG-A), two bodies in contact through a 3100 m/s shock:
      * OG and OAS once wrote a penalty-scale buffer they do not have on OpenCL */

@@ -31,6 +31,12 @@ cases=(
   "taylor_bar_round|resolution.ratio=6 time.end=2e-6"
   "taylor_bar_square|resolution.dp=0.0015 time.end=2e-6"
   "tensile_2d|resolution.dp=0.05 time.end=5e-5"
+  "bending_column_3d|resolution.dp=0.166666666666667 time.end=0.01 time.output_interval=0.005"
+  "mesh_ball_3d|resolution.dp=0.01 time.end=0.0005 output.snapshot_interval=0"
+  "mesh_gear_3d|resolution.dp=0.05 time.end=0.004"
+  "taylor_green_2d|resolution.dp=0.05 time.end=0.2"
+  "shu_osher_1d|time.end=0.005 time.output_interval=0.005"
+  "cylinder_flow_2d|resolution.dp=0.25 time.end=1.0"
 )
 # precision variants on one case
 extra=(

@@ -114,6 +114,41 @@ static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
                     (int)body->velocity.type);
     }
     if (matter < 1) violate(res, "no matter body");
+    /* regions: shapes and materials of the tables; several materials only
+     * with the updated-Lagrangian solids */
+    for (int b = 0; b < sc->nbodies; b++) {
+        const sph_body *body = &sc->bodies[b];
+        if (body->nregions < 0 || body->nregions > SPH_SCENE_MAX_REGIONS ||
+            (body->nregions > 0 && body->role == SPH_BODY_WALL)) {
+            violate(res, "body %d: %d regions, role %d", b, body->nregions, (int)body->role);
+            continue;
+        }
+        for (int k = 0; k < body->nregions; k++)
+            if (body->regions[k].shape < 0 || body->regions[k].shape >= sc->nshapes ||
+                body->regions[k].material < 0 || body->regions[k].material >= sc->nmaterials)
+                violate(res, "body %d region %d: shape %d, material %d", b, k,
+                        body->regions[k].shape, body->regions[k].material);
+    }
+    int row_of[SPH_MAX_MATERIALS];
+    const int rows = sph_scene_material_rows(sc, row_of);
+    if (rows < 1 || (rows > 1 && (eulerian || sc->formulation == SPH_FORMULATION_TLSPH)))
+        violate(res, "%d materials in use with formulation %d", rows, (int)sc->formulation);
+    /* observers: a traction has a unit normal; the wave analysis two
+     * distinct traction observers */
+    for (int o = 0; o < sc->nobservers; o++) {
+        const sph_observer *obs = &sc->observers[o];
+        double n2 = 0.0;
+        for (int a = 0; a < sc->dim; a++) n2 += obs->normal[a] * obs->normal[a];
+        if (obs->quantity == SPH_OBSERVE_TRACTION ? fabs(n2 - 1.0) > 1e-9 : n2 != 0.0)
+            violate(res, "observer %d: quantity %d, |n|^2 %g", o, (int)obs->quantity, n2);
+    }
+    if ((sc->wave_incident >= 0) != (sc->wave_transmitted >= 0) ||
+        (sc->wave_incident >= 0 &&
+         (sc->wave_incident == sc->wave_transmitted || sc->wave_incident >= sc->nobservers ||
+          sc->wave_transmitted >= sc->nobservers ||
+          sc->observers[sc->wave_incident].quantity != SPH_OBSERVE_TRACTION ||
+          sc->observers[sc->wave_transmitted].quantity != SPH_OBSERVE_TRACTION)))
+        violate(res, "wave analysis: observers %d, %d", sc->wave_incident, sc->wave_transmitted);
     if (sc->has_far_field) {
         double u2 = 0.0;
         for (int a = 0; a < sc->dim; a++) {
