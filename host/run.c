@@ -276,8 +276,7 @@ static json_object *resolved_json(const sph_simulation *sim) {
         json_object_object_add(o, "particles", json_object_new_int(sim->particles.body_count[b]));
         /* its material, and those of its regions in order */
         const sph_body *body = &sc->bodies[b];
-        json_object_object_add(o, "material",
-                               sph_json_string(sc->materials[body->material].name));
+        json_object_object_add(o, "material", sph_json_string(sc->materials[body->material].name));
         if (body->nregions > 0) {
             json_object *regions = json_object_new_array();
             for (int k = 0; k < body->nregions; ++k)
