@@ -23,7 +23,7 @@ the uninterrupted run's results.
 Full disks are real where this process may mount a tmpfs (as root): a
 256 KiB tmpfs with a filler file that leaves the chosen room.  Where it may
 not, the same rows run through the fault injection SPHSOLID_TEST_DISK_FULL
-(host/hdf5_file.c), and the output says which path ran.
+(host/io/hdf5_file.c), and the output says which path ran.
 """
 import importlib.util
 import json
@@ -639,7 +639,7 @@ ROWS = [
         ["cannot write {out}/summary.json.partial: No space left on device"],
         args=FAST + ["--set", "output.snapshot_interval=0"], fs=("full", 4096, "summary.json")),
     # --- issue 34, runaway work: checkpoints, progress, predicted work and output volume
-    #     (refused before the run, host/work_estimate.h; the old binary ran these for
+    #     (refused before the run, host/setup/work_estimate.h; the old binary ran these for
     #     hours, hence within(); checkpoint intervals below the step:
     #     tests/test_restart.py; progress inside a long advection step and
     #     --no-work-limit: tests/test_output.py)
@@ -790,7 +790,7 @@ ROWS = [
     # --- issue 34, restart and the output directory
     #     (two runs into one --out: busy_output_directory below; an end before
     #     the checkpoint, checkpoints after a restart: tests/test_restart.py)
-    # --- initial fields as expressions (host/expression.c, issue 30 item 4)
+    # --- initial fields as expressions (host/setup/expression.c, issue 30 item 4)
     Row("expression: unknown variable", 2,
         ["{file}:{line}: bodies.plate.initial_velocity.y: the expression \"0.1 * q\": unknown "
          "variable 'q' (variables: x, y)"],

@@ -26,7 +26,7 @@ from sphtest import SANITIZED, SRC, check, finish, run_quiet, snapshot_paths  # 
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
 SCENE = os.path.join(SRC, "cases", "bimaterial_bar", "scene.cfg")
-# the 1D relations for the scene's materials (host/analysis.h: Z = sqrt(rho0 (K + G)))
+# the 1D relations for the scene's materials (host/run/analysis.h: Z = sqrt(rho0 (K + G)))
 T_THEORY, R_THEORY = 0.3990, -0.6010
 
 

@@ -21,7 +21,7 @@
  *  - the rubber ball on a plate fixed at both ends, 000 §6.7
  *    (cases/ball_plate_2d) at dp = 0.005: see ball_plate() below.
  */
-#include "backend_cpu.h"
+#include "physics.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -195,7 +195,7 @@ static void pair_bounce(test_counts *t, sph_backend_kind kind, double impedance,
 /* Contact potential of a pair at distance r (penalty only): phi(r) =
  * int_r^dp 2 K (1 - s/dp)^2 |dW(s)| V_i V_j ds (sph_contact.h), by Simpson's
  * rule on 400 intervals. */
-static double contact_potential(const cpu_kernels *k, const sph_params_f64 *prm, double r,
+static double contact_potential(const sph_physics *k, const sph_params_f64 *prm, double r,
                                 double vv) {
     const double dp = prm->dp;
     if (r >= dp) return 0.0;
@@ -246,7 +246,7 @@ static void pair_lattice(test_counts *t, sph_backend_kind kind, double impedance
         p.vel[o] = -u0 * (1.0 + 0.2 * (test_urand(&seed) - 0.5));
         p.vel[n + o] = 0.1 * u0 * (test_urand(&seed) - 0.5);
     }
-    const cpu_kernels *ck = cpu_kernels_for(2, true);
+    const sph_physics *ck = sph_physics_for(2, true);
     double *x = malloc((size_t)2 * n * sizeof(double)), *v = malloc((size_t)2 * n * sizeof(double));
     uint8_t *body = malloc((size_t)n);
     sph_backend *be = NULL;

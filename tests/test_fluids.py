@@ -118,7 +118,7 @@ for label, scene, rk2 in (("weakly compressible", TGV, False), ("ideal gas", TGV
     if summ is None:
         continue
     check(summ["particle_count"] == 400, "%s: 400 particles (%d)" % (label, summ["particle_count"]))
-    # only what a fluid scene uses is allocated and compiled in (host/fields.c): the fluid's
+    # only what a fluid scene uses is allocated and compiled in (host/model/fields.c): the fluid's
     # conserved variables and rates, none of the solid's stress, rotation or acoustic buffers
     buffers = {b["name"] for b in summ["memory"]["buffers"]}
     # the update's own buffers: v' of the two stages, or SSP-RK2's momentum rate and U^n

@@ -30,7 +30,7 @@ SCENE = os.path.join(SRC, "cases", "impact_two_materials", "scene.cfg")
 
 
 def impedance(rho, e, nu):
-    """sqrt(rho0 (K + G)) of the 2D model (host/analysis.h)"""
+    """sqrt(rho0 (K + G)) of the 2D model (host/run/analysis.h)"""
     k, g = e / (3 * (1 - 2 * nu)), e / (2 * (1 + nu))
     return math.sqrt(rho * (k + g))
 

@@ -1,4 +1,4 @@
-/* test_mesh.c — closed triangle meshes as shapes (host/mesh.c).
+/* test_mesh.c — closed triangle meshes as shapes (host/setup/mesh.c).
  *
  *  1. A unit cube as 12 triangles (ASCII STL, binary STL, and OBJ whose
  *     corners are split by face normals, so that they only meet after

@@ -1,4 +1,4 @@
-/* test_particles — the initial particle set (host/particles.c).
+/* test_particles — the initial particle set (host/setup/particles.c).
  *
  * Counts follow from the lattice rule (cell centres of a dp-grid anchored at
  * the lower corner of all bodies) and the case geometry; energies and
@@ -418,7 +418,7 @@ static void velocity_difference(const sph_particles *a, const sph_particles *b, 
     }
 }
 
-/* The initial velocity as an expression (host/expression.c) against the
+/* The initial velocity as an expression (host/setup/expression.c) against the
  * built-in field it writes out, on the same case: the spinning plate's
  * rigid rotation and the 3D plate's mode (2, 2).  The expressions perform
  * the built-in's operations on the same doubles (`pi` is the double nearest

@@ -14,7 +14,7 @@
  *    against a fine sum over the plane, and int_0^2h Sigma dd = 1/2 (the
  *    half-space holds half the kernel).
  */
-#include "backend_cpu.h"
+#include "physics.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -72,7 +72,7 @@ static double exact_integral(int kernel, int dim) {
 /* int_0^2h W(r) S_d r^(d-1) dr by composite 5-point Gauss-Legendre on 400
  * panels (breakpoints at r = h for the B-spline's pieces; the nodes never
  * touch r = 2h, where the truncated Laguerre-Gauss kernel jumps). */
-static double radial_integral(const cpu_kernels *k, const sph_params_f64 *prm) {
+static double radial_integral(const sph_physics *k, const sph_params_f64 *prm) {
     static const double x[5] = {0.0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640,
                                 0.9061798459386640};
     static const double w[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665,
@@ -94,7 +94,7 @@ static double radial_integral(const cpu_kernels *k, const sph_params_f64 *prm) {
 
 /* sum over a lattice of spacing delta of W(|x|) delta^d; *inside: delta^d
  * times the number of lattice points with r <= 2h */
-static double lattice_integral(const cpu_kernels *k, const sph_params_f64 *prm, double delta,
+static double lattice_integral(const sph_physics *k, const sph_params_f64 *prm, double delta,
                                double *inside) {
     const double cutoff = prm->cutoff, h = prm->h;
     const int m = (int)ceil(cutoff / delta) + 1;
@@ -146,7 +146,7 @@ static void check_kernels(test_counts *t) {
             const bool lg = kernel == KERNEL_LAGUERRE_GAUSS;
             char what[160];
             for (int prec = 1; prec >= 0; --prec) {
-                const cpu_kernels *k = cpu_kernels_for(dim, prec == 1);
+                const sph_physics *k = sph_physics_for(dim, prec == 1);
                 const char *pname = prec ? "double" : "single";
                 /* continuous integral: the kernel code integrates to 1 (to
                  * the truncation deficit for Laguerre-Gauss).  Single
@@ -214,7 +214,7 @@ static void check_kernels(test_counts *t) {
              * precision, at points away from the zeros of f' (Laguerre-Gauss
              * q = sqrt 2; Laguerre-Wendland q = 0.94, 1.55) and from the
              * B-spline's joint at q = 1 */
-            const cpu_kernels *k = cpu_kernels_for(dim, true);
+            const sph_physics *k = sph_physics_for(dim, true);
             const double qs[6] = {0.13, 0.5, 0.83, 1.2, 1.65, 1.9};
             for (int a = 0; a < 6; ++a) {
                 const double r = qs[a] * h, e = 1e-6 * h;
@@ -223,7 +223,7 @@ static void check_kernels(test_counts *t) {
                          name, dim, qs[a]);
                 CHECK_NEAR(t, k->kernel_dw(prm, r), fd, 1e-6 * fabs(fd), what);
                 /* single precision follows double */
-                const cpu_kernels *kf = cpu_kernels_for(dim, false);
+                const sph_physics *kf = sph_physics_for(dim, false);
                 snprintf(what, sizeof what, "%s %dD: single-precision dW/dr at r = %.2fh", name,
                          dim, qs[a]);
                 CHECK_NEAR(t, kf->kernel_dw(prm, r), k->kernel_dw(prm, r),
@@ -324,7 +324,7 @@ static void check_correction_matrix(test_counts *t, sph_backend_kind kind) {
 static void check_rodrigues(test_counts *t) {
     /* 2D: rotation by w dt counter-clockwise */
     for (int prec = 0; prec < 2; ++prec) {
-        const cpu_kernels *k = cpu_kernels_for(2, prec == 1);
+        const sph_physics *k = sph_physics_for(2, prec == 1);
         const double tol = prec ? 1e-14 : 2e-7;
         const double w = 50.0, dt = 2.5e-5, th = w * dt;
         double rot[4];
@@ -335,7 +335,7 @@ static void check_rodrigues(test_counts *t) {
         CHECK_NEAR(t, rot[3], cos(th), tol, "2D R_yy");
     }
     /* 3D: a finite rotation about a general axis, against the axis-angle matrix */
-    const cpu_kernels *k3 = cpu_kernels_for(3, true);
+    const sph_physics *k3 = sph_physics_for(3, true);
     const double w[3] = {3.0, -4.0, 12.0}; /* |w| = 13 */
     const double dt = 0.05, th = 13.0 * dt;
     const double u[3] = {w[0] / 13.0, w[1] / 13.0, w[2] / 13.0};
@@ -374,7 +374,7 @@ static double urand(unsigned *s) {
 static void check_riemann_symmetry(test_counts *t) {
     unsigned seed = 12345u;
     for (int dim = 2; dim <= 3; ++dim) {
-        const cpu_kernels *k = cpu_kernels_for(dim, true);
+        const sph_physics *k = sph_physics_for(dim, true);
         double worst = 0.0;
         for (int trial = 0; trial < 1000; ++trial) {
             double vi[3], vj[3], e[3], e_back[3], len = 0.0;
@@ -416,7 +416,7 @@ static void check_wall_plane_kernel(test_counts *t) {
             sph_params_f64 prm[1];
             test_params(prm, dim, 1.0, 1.0);
             prm->smoothing_kernel = kernels[kk];
-            const cpu_kernels *k = cpu_kernels_for(dim, true);
+            const sph_physics *k = sph_physics_for(dim, true);
             const double h = prm->h, rc = prm->cutoff;
             char what[160];
             double max_err = 0.0, peak = 0.0;

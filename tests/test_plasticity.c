@@ -47,7 +47,7 @@
  *     sqrt2 eps, and (C_p^-1)_zz = e^(2 gamma/sqrt6) (the state's
  *     plane-strain zz component), K = lambda + 2 mu/3.  Same bounds.
  */
-#include "backend_cpu.h"
+#include "physics.h"
 #include "sph_constants.h"
 #include "test_util.h"
 
@@ -67,7 +67,7 @@ static void material(sph_params_f64 *prm, double kappa) {
 }
 
 static void patch(test_counts *t, int dim, double kappa) {
-    const cpu_kernels *k = cpu_kernels_for(dim, true);
+    const sph_physics *k = sph_physics_for(dim, true);
     sph_params_f64 prm[1];
     material(prm, kappa);
     const double g = prm->materials[0].shear_modulus, sy = prm->materials[0].yield;
@@ -127,7 +127,7 @@ static void patch(test_counts *t, int dim, double kappa) {
 /* The elastic point: no return, and the Jaumann rate rotates tau rigidly
  * under a pure spin (objectivity): |tau| stays, to round-off. */
 static void elastic_spin(test_counts *t) {
-    const cpu_kernels *k = cpu_kernels_for(2, true);
+    const sph_physics *k = sph_physics_for(2, true);
     sph_params_f64 prm[1];
     material(prm, 0);
     prm->plastic = 0;
@@ -145,7 +145,7 @@ static void elastic_spin(test_counts *t) {
 /* Artificial stress (Gray et al. 2001): only tensile principal stresses,
  * R_a = -eps s_a / rho^2, in the principal frame of sigma = tau - p I. */
 static void artificial(test_counts *t, int dim) {
-    const cpu_kernels *k = cpu_kernels_for(dim, true);
+    const sph_physics *k = sph_physics_for(dim, true);
     /* sigma with principal values (3, -1[, 2]) x 1e5 in a rotated frame */
     const double th = 0.3, c = cos(th), s = sin(th);
     double q[9] = {0}, lam[3] = {3e5, -1e5, 2e5}, sigma[9] = {0};
@@ -243,7 +243,7 @@ static double gamma_exact(const tl_material *m, double drive, double gamma0, dou
 
 /* One TLSPH J2 update through the probe; f and the results 3 x 3 (the
  * probe's d x d block plus, in 2D, the zz components). */
-static int tl_update3(const cpu_kernels *k, const sph_params_f64 *prm, const double f3[9],
+static int tl_update3(const sph_physics *k, const sph_params_f64 *prm, const double f3[9],
                       double cp3[9], double *alpha, double tau3[9]) {
     const int d = k->dim, dd = d * d;
     double f[9], state[11], tau[10];
@@ -278,7 +278,7 @@ static double max_abs_diff(const double *a, const double *b, int n) {
 /* (a): the isochoric stretch, loading, unloading, reverse yielding and
  * reloading; `rigid` adds a rigid rotation growing to 1 rad. */
 static void tl_isochoric(test_counts *t, int dim, double kappa, double axes_angle, bool rigid) {
-    const cpu_kernels *k = cpu_kernels_for(dim, true);
+    const sph_physics *k = sph_physics_for(dim, true);
     sph_params_f64 prm[1];
     const tl_material m = tl_params(prm, kappa);
     const double axis[3] = {dim == 2 ? 0.0 : 1.0, dim == 2 ? 0.0 : 2.0, 3.0};
@@ -355,7 +355,7 @@ static void tl_isochoric(test_counts *t, int dim, double kappa, double axes_angl
 
 /* (b): plane-strain uniaxial strain, whose plastic flow has a zz part. */
 static void tl_uniaxial(test_counts *t, int dim, double kappa) {
-    const cpu_kernels *k = cpu_kernels_for(dim, true);
+    const sph_physics *k = sph_physics_for(dim, true);
     sph_params_f64 prm[1];
     const tl_material m = tl_params(prm, kappa);
     const double kb = m.lambda + 2.0 * m.mu / 3.0, r6 = sqrt(6.0);
@@ -393,7 +393,7 @@ static void tl_uniaxial(test_counts *t, int dim, double kappa) {
 /* Elastic branch: Hencky against Saint Venant-Kirchhoff for the isochoric
  * stretch at eps = 1e-4 (see the header). */
 static void tl_hencky_vs_svk(test_counts *t, int dim) {
-    const cpu_kernels *k = cpu_kernels_for(dim, true);
+    const sph_physics *k = sph_physics_for(dim, true);
     sph_params_f64 prm[1];
     const tl_material m = tl_params(prm, 0.0);
     const double eps = 1e-4;

@@ -1,5 +1,5 @@
-/* test_relax — signed distances of the scene's shapes (host/shape_sdf.c) and
- * the particle relaxation with its saved file (host/relax.c).
+/* test_relax — signed distances of the scene's shapes (host/setup/shape_sdf.c) and
+ * the particle relaxation with its saved file (host/setup/relax.c).
  *
  * Distances are checked against closed forms, normals against central
  * differences of the distance, the boundary term of the relaxation against
@@ -7,7 +7,7 @@
  * relaxation runs the colliding rings' ring (2D, dp = 0.0025) and a 3D
  * hollow sphere (r = 0.03 to 0.04, dp = 0.005); the bounds are measured
  * values with a margin (numbers in the comments). */
-#include "backend_cpu.h"
+#include "physics.h"
 #include "particles.h"
 #include "relax.h"
 #include "shape_sdf.h"
@@ -214,7 +214,7 @@ static void test_half_space(test_counts *c) {
         const double dp = 0.01, h = 1.3 * dp;
         sph_kernel_half_space t;
         sph_kernel_half_space_init(dim, SPH_KERNEL_WENDLAND_C2, h, &t);
-        const cpu_kernels *k = cpu_kernels_for(dim, true);
+        const sph_physics *k = sph_physics_for(dim, true);
         sph_params_f64 prm[1];
         prm->h = h;
         prm->cutoff = 2 * h;

@@ -1,4 +1,4 @@
-/* test_scene — scene loading, overrides and error reporting (host/scene.c).
+/* test_scene — scene loading, overrides and error reporting (host/setup/scene.c).
  *
  * The two shipped cases must load with the values their files state; the
  * derived material constants follow 000 eq. 5 (c0 = sqrt(E / (3 (1 - 2 nu)
@@ -600,7 +600,7 @@ static const bad_row BAD[] = {
      "%F:7: materials.steel.poisson_ratio: must be in [0, 0.5), got 4.29497e+09"},
     {"--set a list index beyond 32 bits", NULL, NULL, "bodies.[4294967296].material=steel",
      "--set bodies.[4294967296].material=steel: bodies.[4294967296]: no such setting"},
-    /* initial fields as expressions (host/expression.c) */
+    /* initial fields as expressions (host/setup/expression.c) */
     {"expression: syntax error", "shape = \"block\";",
      "shape = \"block\"; initial_velocity = { type = \"expression\"; x = \"sin(\"; };", NULL,
      "%F:13: bodies.a.initial_velocity.x: the expression \"sin(\": Unexpected end of "

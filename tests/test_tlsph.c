@@ -48,13 +48,13 @@
  * tip amplitude are held to the same bounds; the periods are the release
  * build's.
  */
-#include "backend_cpu.h"
+#include "physics.h"
 #include "test_support.h"
 
 #include <math.h>
 
 #define PATCH_N 20
-/* the scene default of method.hourglass_alpha (host/scene.c) */
+/* the scene default of method.hourglass_alpha (host/setup/scene.c) */
 #define HOURGLASS_ALPHA 0.1
 /* checkerboard patch after 200 steps: the indicator with alpha = 0 over the
  * one with HOURGLASS_ALPHA measured 15.7 (native backend); the bound keeps a
@@ -272,7 +272,7 @@ static void patch_test(test_counts *t, sph_backend_kind kind) {
 static double hourglass_indicator(sph_backend *be, const sph_particles *p0,
                                   const sph_params_f64 *prm, sph_error *err) {
     const int n = be->n;
-    const cpu_kernels *k = cpu_kernels_for(2, true);
+    const sph_physics *k = sph_physics_for(2, true);
     double *x = malloc(sizeof(double) * (size_t)(2 * n));
     double *bmat = malloc(sizeof(double) * (size_t)(3 * n));
     int32_t *id = malloc(sizeof(int32_t) * (size_t)n);
@@ -856,7 +856,7 @@ static void damping_patch(test_counts *t, sph_backend_kind kind) {
     if (!st) {
         const double dp = prm->dp, c = 0.5 * PATCH_N * dp, rho0 = prm->materials[0].rho0;
         const double mass = rho0 * dp * dp;
-        const cpu_kernels *k = cpu_kernels_for(2, true);
+        const sph_physics *k = sph_physics_for(2, true);
         const double w0 = k->kernel_w(prm, 0.0);
         /* the substep's half-step positions x + dt/2 v = (1 + dt/2 rate) x
          * scale both x_ij . v_ij and F = (1 + dt/2 rate) I */

@@ -166,8 +166,8 @@ def mean_neighbour_count(run_dir, cutoff):
     return total / len(rows)
 
 
-INT_FIELDS, U8_FIELDS = ("id", "contact_count"), ("fixed", "body")  # host/fields.c
-# history fields (host/fields.c, FIELD_TYPE_HREAL): double in mixed precision
+INT_FIELDS, U8_FIELDS = ("id", "contact_count"), ("fixed", "body", "material")  # host/model/fields.c
+# history fields (host/model/fields.c, FIELD_TYPE_HREAL): double in mixed precision
 HREAL_FIELDS = ("pos", "rho", "tau", "acc_shear")
 
 

@@ -1,4 +1,4 @@
-/* fuzz_mesh.c — libFuzzer harness over the mesh reader (host/mesh.c; the
+/* fuzz_mesh.c — libFuzzer harness over the mesh reader (host/setup/mesh.c; the
  * input convention is in fuzz_mesh.h): arbitrary bytes as an STL or OBJ
  * file through assimp, the welding, the checks and the search tree.
  *

@@ -1,4 +1,4 @@
-/* fuzz_mesh.h — one fuzz input through the mesh reader (host/mesh.c,
+/* fuzz_mesh.h — one fuzz input through the mesh reader (host/setup/mesh.c,
  * tests/fuzz/fuzz_mesh.c).
  *
  * An input is bytes: the first byte's low bit chooses the format the bytes

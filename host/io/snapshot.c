@@ -1,6 +1,6 @@
 #include "snapshot.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 #include "hdf5_file.h"
 
 #include <dirent.h>
@@ -162,7 +162,7 @@ static sph_status write_fluid_point_data(const sph_snapshots *s, const sph_h5_wr
         }
     }
     if (!st && sc->output_field[SPH_OUT_MACH_NUMBER]) {
-        const cpu_kernels *k = cpu_kernels_for(dim, true);
+        const sph_physics *k = sph_physics_for(dim, true);
         for (int i = 0; i < n; ++i) {
             double v2 = 0.0;
             for (int a = 0; a < dim; ++a) {
@@ -218,7 +218,7 @@ static sph_status write_point_data(const sph_snapshots *s, const sph_h5_writer *
                want_tau = sc->output_field[SPH_OUT_SHEAR_STRESS];
     if (!st && (want_p || want_vm || want_tau)) {
         /* derived by the physics source itself (device/sph_elasticity.h) */
-        const cpu_kernels *k = cpu_kernels_for(dim, true);
+        const sph_physics *k = sph_physics_for(dim, true);
         double *p = malloc((size_t)n * sizeof(double) * 2);
         double *t6 = want_tau ? malloc((size_t)n * 6 * sizeof(double)) : NULL;
         if (!p || (want_tau && !t6)) {

@@ -4,7 +4,7 @@
  * relaxation residue (eq. 4), write JSON and per-particle CSV. */
 #include "kernel_study.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 #include "grid.h"
 #include "output.h"
 #include "particles.h"
@@ -302,7 +302,7 @@ typedef struct {
  * and the errors |grad f_i - A_f| and, corrected, |grad f_i - B_i A_f|
  * (grad_i W_ij replaced by B_i grad_i W_ij). */
 static void particle_errors(const sph_cell_list *cl, const double *pos, int n, int i, double volume,
-                            const cpu_kernels *k, const sph_params_f64 *prm, ks_particle *out) {
+                            const sph_physics *k, const sph_params_f64 *prm, ks_particle *out) {
     const double cutoff = 2.0 * prm->h;
     const double xi = pos[i], yi = pos[n + i];
     const double fi[NFUNC] = {1.0, sin(TWO_PI * xi)};
@@ -365,7 +365,7 @@ static sph_status measure(ks_result *r, double exclude, sph_error *err) {
     prm->smoothing_kernel = (int)r->c.kernel;
     prm->dp = r->dp;
     /* the kernel of the physics source (device/sph_smoothing_kernel.h) */
-    const cpu_kernels *k = cpu_kernels_for(2, true);
+    const sph_physics *k = sph_physics_for(2, true);
     sph_cell_list g = {0};
     sph_status st = sph_cell_list_build(&g, 2, r->pos, n, 2.0 * r->h, err);
     if (st) {

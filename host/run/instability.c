@@ -1,6 +1,6 @@
 #include "instability.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -65,7 +65,7 @@ static sph_status find_nonfinite(sph_backend *be, host_state *h, int *slot, sph_
  * the physics source (device/monitor.cl) on the host copies. */
 static sph_status find_monitor_max(sph_backend *be, const sph_params_f64 *prm, host_state *h,
                                    int component, int *slot, sph_error *err) {
-    const cpu_kernels *k = cpu_kernels_for(h->dim, true);
+    const sph_physics *k = sph_physics_for(h->dim, true);
     h->vel = alloc_field(be, FIELD_VEL);
     h->vol = alloc_field(be, FIELD_VOL);
     h->bmat = alloc_field(be, FIELD_BMAT);

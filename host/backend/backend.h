@@ -197,5 +197,9 @@ void sph_neighbour_lists_free(sph_neighbour_lists *l);
 /* Initial neighbour capacity: the lattice count within the cut-off (given in
  * units of dp) with room for compression; the rebuild grows it on demand. */
 int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp);
+/* The capacity a rebuild grows to when a particle has `needed` neighbours
+ * beyond the current one: a quarter more, so that the next rebuilds of a
+ * compressing body rarely build twice (both backends' rule). */
+int sph_grown_neighbour_capacity(int needed);
 
 #endif

@@ -1,6 +1,6 @@
 #include "work_estimate.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 
 #include "particles.h" /* sph_format_bytes: the memory messages' units */
 
@@ -81,7 +81,7 @@ static double free_bytes(const char *out_dir, bool restart) {
     return room;
 }
 
-/* Raw bytes of one particle's snapshot arrays (host/snapshot.c): points
+/* Raw bytes of one particle's snapshot arrays (host/io/snapshot.c): points
  * (3 components, float in single precision), the chosen point data, and
  * the VTK connectivity, offset and type of its vertex cell. */
 static double particle_snapshot_bytes(const sph_scene *sc, bool double_precision) {
@@ -117,7 +117,7 @@ void sph_work_estimate_compute(const sph_scene *sc, const sph_particles *p,
     /* the compressible fluid's sound speed is each particle's own,
      * sqrt(gamma p / rho) (device/sph_eulerian.h): its largest at the start */
     if (sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE && p->pressure) {
-        const cpu_kernels *k = cpu_kernels_for(p->dim, true);
+        const sph_physics *k = sph_physics_for(p->dim, true);
         for (int i = 0; i < p->n; ++i)
             e->sound_speed =
                 fmax(e->sound_speed, k->ideal_gas_sound_speed(p->pressure[i], p->rho[i],

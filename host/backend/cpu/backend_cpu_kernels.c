@@ -140,7 +140,7 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 #        define ENERGY_RATE_FIELD_ARGS
 #        define SOUND_FIELD_ARG
 #    endif
-/* the packed pair rows (eulerian_step.cl, host/backend_cpu.c) */
+/* the packed pair rows (eulerian_step.cl, host/backend/cpu/backend_cpu.c) */
 #    define FLUID_ROWS(b) (b)->row_start, (b)->row_walls, (b)->row_j
 /* walls and the far field (NULL buffers when the scene has neither) */
 #    define KIND_FIELD_ARGS , F_U8(b, FIELD_KIND), F_REAL(b, FIELD_NORMAL)
@@ -590,15 +590,20 @@ const cpu_kernels CPU_VARIANT = {
     .fluid_setup = FLUID_SETUP,
     .diagnostics = diagnostics_impl,
     .monitor = monitor_impl,
-    .monitor_particle = MONITOR_PARTICLE,
-    .kernel_w = probe_kernel_w,
-    .kernel_dw = probe_kernel_dw,
-    .wall_plane_kernel = probe_wall_plane_kernel,
-    .rodrigues = probe_rodrigues,
-    .ideal_gas_sound_speed = probe_ideal_gas_sound_speed,
-    .riemann_pair = probe_riemann_pair,
-    .stress_output = stress_output_impl,
-    .stress_update = probe_stress_update,
-    .artificial_stress = probe_artificial_stress,
-    .tl_j2_update = probe_tl_j2_update,
+    .physics =
+        {
+            .dim = SPH_DIM,
+            .double_precision = SPH_DOUBLE,
+            .monitor_particle = MONITOR_PARTICLE,
+            .kernel_w = probe_kernel_w,
+            .kernel_dw = probe_kernel_dw,
+            .wall_plane_kernel = probe_wall_plane_kernel,
+            .rodrigues = probe_rodrigues,
+            .ideal_gas_sound_speed = probe_ideal_gas_sound_speed,
+            .riemann_pair = probe_riemann_pair,
+            .stress_output = stress_output_impl,
+            .stress_update = probe_stress_update,
+            .artificial_stress = probe_artificial_stress,
+            .tl_j2_update = probe_tl_j2_update,
+        },
 };

@@ -102,7 +102,7 @@ typedef struct {
     bool pair_recompute; /* device/sph_pair_geometry.h */
     bool device_clock;   /* the substeps advance the step clock themselves */
     long cells_allocated;
-    int periodic_mask; /* fluids: periodic axes of the cell grid (host/grid.h) */
+    int periodic_mask; /* fluids: periodic axes of the cell grid (host/model/grid.h) */
     double period[3];
     sph_cl_arg res[RES_COUNT];
 } ocl_impl;
@@ -579,7 +579,7 @@ static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
                                               &needed, 0, NULL, NULL),
                           "reading the neighbour count", err);
         if (st || needed == 0) break;
-        st = alloc_pairs(be, o, needed + needed / 4 + 2, err);
+        st = alloc_pairs(be, o, sph_grown_neighbour_capacity(needed), err);
     }
     /* fluids, once (the only rebuild): the initial EOS state and the
      * corrected pair gradients (eulerian_step.cl) */

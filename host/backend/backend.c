@@ -137,6 +137,10 @@ int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp) {
     return (cap + 3) / 4 * 4;
 }
 
+int sph_grown_neighbour_capacity(int needed) {
+    return needed + needed / 4 + 2;
+}
+
 sph_status sph_backend_require_field(const sph_backend *be, sph_field f, sph_error *err) {
     if (be->fields[f].present) return SPH_OK;
     return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",

@@ -1,7 +1,7 @@
 /* kernel_study.h — the kernel study of 004 §2.2-2.3 (Tables 1-4, Fig. 2):
  * `sphsolid kernel-study`.
  *
- * A disc of diameter D = 2 is relaxed with each kernel (host/relax.c, the
+ * A disc of diameter D = 2 is relaxed with each kernel (host/setup/relax.c, the
  * project's own relaxation, in double on the host) at each kappa = h/dp,
  * with h held at 1.3 dp_ref (dp = h / kappa, so the smoothing error is the
  * same for every kappa, 004 §2.2), and on the relaxed particles away from

@@ -86,7 +86,7 @@ typedef enum {
     /* 0 <= (x - centre).axis <= length and the distance from the axis <=
      * outer_radius: "cylinder" (3D), centre = the centre of one end */
     SPH_SHAPE_CYLINDER,
-    /* a closed triangle mesh read from a file (host/mesh.h), 3D */
+    /* a closed triangle mesh read from a file (host/setup/mesh.h), 3D */
     SPH_SHAPE_MESH
 } sph_shape_type;
 typedef struct {
@@ -385,7 +385,7 @@ typedef struct {
     sph_monitor_action monitor_action;
 
     /* analysis.wave: a stress pulse's transmission through an interface,
-     * from two traction observers (host/analysis.h, sph_wave_metrics):
+     * from two traction observers (host/run/analysis.h, sph_wave_metrics):
      * the incident (and reflected) pulse at one, the transmitted at the
      * other; -1: none */
     int wave_incident, wave_transmitted;

@@ -1,6 +1,6 @@
 #include "feature_set.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 #include "sph_constants.h"
 
 #include <math.h>
@@ -132,7 +132,7 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     prm->xi_e = scene->xi_e;
     prm->xi_g = scene->xi_g;
     prm->riemann_limit = scene->riemann_limiter_slope;
-    /* the viscous term's eps = 0.01 h (004 eq. 13; host/scene.h) */
+    /* the viscous term's eps = 0.01 h (004 eq. 13; host/setup/scene.h) */
     const double visc_eps = 0.01 * h;
     prm->viscous_eps_linear = scene->viscous_regularization == SPH_VISCOUS_LINEAR ? visc_eps : 0;
     prm->viscous_eps_squared =
@@ -207,6 +207,6 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     prm->torque_projection = f->torque_projection ? 1 : 0;
     prm->elastic_model = f->elastic_model;
     /* W(dp) normalises the artificial-stress weight f = W(r)/W(dp) */
-    prm->art_wdp = cpu_kernels_for(f->dim, true)->kernel_w(prm, scene->dp);
+    prm->art_wdp = sph_physics_for(f->dim, true)->kernel_w(prm, scene->dp);
     return SPH_OK;
 }

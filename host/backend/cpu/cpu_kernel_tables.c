@@ -58,3 +58,8 @@ const cpu_kernels *cpu_kernels_for_features(const sph_features *f) {
     if (f->dim < 1 || f->dim > 3) return NULL;
     return cpu_instances[f->dim - 1][prec][form];
 }
+
+const sph_physics *sph_physics_for(int dim, bool double_precision) {
+    const cpu_kernels *k = cpu_kernels_for(dim, double_precision);
+    return k ? &k->physics : NULL;
+}

@@ -487,7 +487,7 @@ static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error
         const int needed = c->k->build_neighbours(&c->b, &grid, be->geometry_shift);
         phase_end(be, "build_neighbours", t0);
         if (needed == 0) break;
-        st = alloc_pairs(be, c, needed + needed / 4 + 2, err);
+        st = alloc_pairs(be, c, sph_grown_neighbour_capacity(needed), err);
         if (st) return st;
     }
     if (c->k->fluid_setup) {

@@ -1,6 +1,6 @@
 #include "observers.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -20,7 +20,7 @@ sph_status sph_observers_init(const sph_scene *scene, const sph_particles *p,
         for (int a = 0; a < 3; ++a) set->normals[o * 3 + a] = scene->observers[o].normal[a];
     }
     if (set->count == 0) return SPH_OK;
-    const cpu_kernels *k = cpu_kernels_for(scene->dim, true);
+    const sph_physics *k = sph_physics_for(scene->dim, true);
     const double cutoff = prm->cutoff;
     /* two passes: count, then fill */
     for (int pass = 0; pass < 2; ++pass) {

@@ -1604,7 +1604,7 @@ static sph_status scene_relative_path(loader *L, const config_setting_t *at, con
 
 /* type = "mesh": file (relative to the scene file's directory), scale,
  * rotate (degrees about x, y, z, in that order), translate; read and
- * checked now (host/mesh.c), so that a bad mesh is an error at its key. */
+ * checked now (host/setup/mesh.c), so that a bad mesh is an error at its key. */
 static sph_status parse_mesh_shape(loader *L, const config_setting_t *s,
                                    const config_setting_t *type_at, sph_shape *sh) {
     if (L->scene->dim != 3)
@@ -2472,7 +2472,7 @@ static sph_status get_observer(loader *L, const config_setting_t *g, const char 
 }
 
 /* analysis.wave = { incident; transmitted; }: two traction observers with
- * the same normal, on either side of an interface (host/analysis.h). */
+ * the same normal, on either side of an interface (host/run/analysis.h). */
 static sph_status parse_wave(loader *L, const config_setting_t *w) {
     sph_scene *sc = L->scene;
     sph_status st;

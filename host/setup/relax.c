@@ -2,7 +2,7 @@
  * shape's level set at the surface, and its saved result (see relax.h). */
 #include "relax.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 #include "grid.h"
 #include "hdf5_file.h"
 #include "sph_constants.h"
@@ -29,7 +29,7 @@
  * along the plane's normal.  With s^2 = r^2 - d^2 (smooth in s):
  *   2D: G = int_0^S -W'(r) 2 s^2 / r ds,   3D: G = pi int_0^S -W'(r) s^3 / r ds,
  * S = sqrt((2h)^2 - d^2); composite Simpson over 2000 intervals. */
-static double half_space_integral(const cpu_kernels *k, const sph_params_f64 *prm, int dim,
+static double half_space_integral(const sph_physics *k, const sph_params_f64 *prm, int dim,
                                   double h, double d) {
     const double cutoff = 2.0 * h;
     if (d >= cutoff) return 0.0;
@@ -61,7 +61,7 @@ void sph_kernel_half_space_init(int dim, sph_kernel kernel, double h, sph_kernel
     sph_params_f64 prm[1];
     kernel_prm(kernel, h, prm);
     /* the kernel of the physics source, one definition for the run and here */
-    const cpu_kernels *k = cpu_kernels_for(dim, true);
+    const sph_physics *k = sph_physics_for(dim, true);
     t->dim = dim;
     t->h = h;
     t->step = 2.0 * h / SPH_RELAX_TABLE;
@@ -86,7 +86,7 @@ typedef struct {
     int dim, n, shape;
     double dp, h, cutoff, volume;
     sph_params_f64 prm[1];
-    const cpu_kernels *k;
+    const sph_physics *k;
     /* the boundary term B(x) = int_outside grad_x W(x - y) dy on a
      * background mesh of spacing `mesh` (build_boundary_mesh) */
     double mesh_origin[3], mesh;
@@ -275,7 +275,7 @@ static sph_status state_init(relax_state *s, const sph_scene *scene, int body, i
     s->cutoff = 2.0 * s->h;
     s->volume = pow(s->dp, scene->dim);
     kernel_prm(scene->kernel, s->h, s->prm);
-    s->k = cpu_kernels_for(scene->dim, true);
+    s->k = sph_physics_for(scene->dim, true);
     const size_t un = (size_t)(n > 0 ? n : 1);
     s->acc = malloc((size_t)s->dim * un * sizeof *s->acc);
     s->res = malloc(un * sizeof *s->res);

@@ -1,6 +1,6 @@
 #include "solver.h"
 
-#include "backend_cpu.h"
+#include "physics.h"
 #include "instability.h"
 #include "progress.h"
 #include "sph_constants.h"
@@ -78,7 +78,7 @@ static sph_status sample(const sph_solver_args *a, sample_scratch *s, double t, 
             if (!st && be->fields[FIELD_MATERIAL].present)
                 st = be->ops->download(be, FIELD_MATERIAL, s->material, err);
             if (!st)
-                cpu_kernels_for(dim, true)->stress_output(
+                sph_physics_for(dim, true)->stress_output(
                     a->prm, be->n, s->rho, s->tau,
                     be->fields[FIELD_MATERIAL].present ? s->material : NULL, s->pressure, NULL,
                     s->tensor6);

@@ -3,7 +3,7 @@
  * max |v|^2 has tripped, find the particle responsible, its body and its
  * position, so the message can name them.  Runs once per run at most, on
  * host copies of the fields, through the physics source's own per-particle
- * measure (cpu_kernels.monitor_particle). */
+ * measure (sph_physics.monitor_particle, model/physics.h). */
 #ifndef SPH_INSTABILITY_H
 #define SPH_INSTABILITY_H
 

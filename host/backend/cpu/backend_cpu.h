@@ -2,12 +2,13 @@
  * (backend_cpu.c: allocation, sort, permutation) and the physics, which is the
  * device/ source compiled as C once per dimension, precision and formulation
  * (backend_cpu_kernels.c; instances cpu_<dim>d_<f64|f32|mixed>_<formulation>,
- * listed in CMakeLists.txt and host/cpu_kernel_tables.c). */
+ * listed in CMakeLists.txt and host/backend/cpu/cpu_kernel_tables.c). */
 #ifndef SPH_BACKEND_CPU_H
 #define SPH_BACKEND_CPU_H
 
 #include "fields.h"
 #include "grid.h"
+#include "physics.h"
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -71,46 +72,12 @@ typedef struct {
     void (*diagnostics)(cpu_buffers *b, double *out);
     /* instability monitor (device/monitor.cl): SPH_MONITOR_NCOMP(dim) values */
     void (*monitor)(cpu_buffers *b, double *out);
-    /* the monitor's measures of particle i alone, from host copies of the
-     * fields (double, field layout) and row-major neighbour lists: which
-     * particle tripped a check (host/instability.c) */
-    void (*monitor_particle)(const sph_params_f64 *prm, int n, int cap, const int32_t *nbr_count,
-                             const int32_t *nbr_j, const double *pos, const double *vel,
-                             const double *vol, const double *bmat, int i, double *out);
-    /* physics probes for unit tests and observers */
-    double (*kernel_w)(const sph_params_f64 *prm, double r);
-    double (*kernel_dw)(const sph_params_f64 *prm, double r);
-    /* the kernel integrated over a plane at the distance d (sph_wall.h) */
-    double (*wall_plane_kernel)(const sph_params_f64 *prm, double d);
-    /* the ideal gas's sound speed sqrt(gamma p / rho) (sph_eulerian.h) */
-    double (*ideal_gas_sound_speed)(double p, double rho, double gamma);
-    /* Rodrigues matrix (row-major dim x dim) of spin components w over dt */
-    void (*rodrigues)(const double *w, double dt, double *rot);
-    /* pair terms of sph_riemann.h for states i, j (vectors of length dim) */
-    void (*riemann_pair)(const double *v_i, const double *v_j, double p_i, double p_j, double z,
-                         double dw, const double *e_ij, double *pressure, double *dissipation,
-                         double *continuity);
-    /* snapshot fields from rho and tau (host arrays, tau in field layout)
-     * and the material rows (NULL: row 0); any output may be NULL:
-     * pressure [n], von Mises [n], tau [n][6] */
-    void (*stress_output)(const sph_params_f64 *prm, int n, const double *rho, const double *tau,
-                          const uint8_t *material, double *pressure, double *von_mises,
-                          double *tensor6);
-    /* one substep of a material point's shear stress: Jaumann rate and, when
-     * alpha is given and prm->plastic is set, the J2 return (row-major) */
-    void (*stress_update)(const sph_params_f64 *prm, const double *grad_v, double dt, double *tau,
-                          double *alpha);
-    /* artificial stress of one particle (OAS), row-major d x d */
-    void (*artificial_stress)(const double *tau, double p, double rho, double epsilon, double *r);
-    /* TLSPH finite-strain J2 update of a material point (tl_j2_kirchhoff):
-     * f row-major d x d; state = C_p^-1 (row-major d x d), (C_p^-1)_zz,
-     * alpha, updated in place; tau = Kirchhoff stress (row-major d x d),
-     * then tau_zz.  Returns 1 when it yielded. */
-    int (*tl_j2_update)(const sph_params_f64 *prm, const double *f, double *state, double *tau);
+    /* the point functions of the same instance (model/physics.h) */
+    sph_physics physics;
 } cpu_kernels;
 
-/* the double or single instance of the SPH-ENOG build (physics probes: the
- * point functions do not depend on the formulation) */
+/* the double or single instance of the SPH-ENOG build (its point functions
+ * do not depend on the formulation: sph_physics_for) */
 const cpu_kernels *cpu_kernels_for(int dim, bool double_precision);
 /* the instance of a run's dimension, precision mode and formulation */
 const cpu_kernels *cpu_kernels_for_features(const sph_features *f);
