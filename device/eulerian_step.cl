@@ -96,7 +96,7 @@
 /* The frozen pair rows: particle i's ROW_COUNT(i) pairs at the slots
  * ROW_SLOT(i, k) of nbr_j and the pair arrays, the components of e_ij
  * ROWS_STRIDE apart.  The native backend packs the rows (the pairs of
- * particle i at row_start[i] ... row_start[i + 1] - 1; host/backend_cpu.c
+ * particle i at row_start[i] ... row_start[i + 1] - 1; host/backend/cpu/backend_cpu.c
  * packs the rebuild's rows once, before eulerian_correct_pairs): the
  * rebuild pads every row to the busiest one's length, cap, and a wall body
  * at dp/2 gives its particles and the fluid beside it two to four times the
@@ -553,7 +553,7 @@ KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
  * turned by more than 84 degrees would otherwise get a viscous denominator
  * near zero), and the slot pair_inv_r then holds the viscous weight of
  * eq. 13, r / (r^2 + eps^2) or the public code's 1 / (r + eps), eps = 0.01 h
- * (method.viscous_regularization, host/scene.h): the step has no division
+ * (method.viscous_regularization, host/setup/scene.h): the step has no division
  * per pair.
  * g_ji = -g_ij exactly, so the pair terms stay antisymmetric. */
 KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, CONSTANT sph_params *prm,
@@ -708,7 +708,7 @@ KERNEL void eulerian_mass_energy_rate(
  * rate is minus its share of particle i's.  So here the row of i holds its
  * fluid pairs with j > i, padded with empty pairs (j = i, zero geometry)
  * to whole lanes, then its wall pairs, then its far pairs (below;
- * host/backend_cpu.c, build_once_rows); each is solved once, its terms are
+ * host/backend/cpu/backend_cpu.c, build_once_rows); each is solved once, its terms are
  * added to i's sums in lanes and subtracted from j's sums one by one.  The curl is not
  * antisymmetric: j gets the pair's cross product times dW w_i where i gets it times dW w_j.
  *
@@ -719,12 +719,12 @@ KERNEL void eulerian_mass_energy_rate(
  * instance) is a "far" pair, summed on one thread afterwards.  A block then
  * writes to itself and the next block only, so the even blocks run in
  * parallel, then the odd ones: every sum gets its terms in the same order
- * whatever the number of threads (PAIRS_ONCE, host/backend_cpu_kernels.c).
+ * whatever the number of threads (PAIRS_ONCE, host/backend/cpu/backend_cpu_kernels.c).
  * The sums of the gather passes come in another order, so the two backends
  * agree to round-off, not bit for bit (tests/test_cross_check: 1e-10).
  * Measured: docs/fluids.md, "Speed on the CPU". */
 
-/* The rows of pairs summed once (host/backend_cpu.c, build_once_rows), in
+/* The rows of pairs summed once (host/backend/cpu/backend_cpu.c, build_once_rows), in
  * the names of the packed rows so that ROW_SLOT and the lanes' loads serve
  * both: row i's slots from row_start[i], its j in nbr_j. */
 #            define ONCE_ROWS_PARAMS                                                               \
@@ -1138,7 +1138,7 @@ KERNEL void eulerian_far_field(ITEM_PARAM const int n, CONSTANT sph_params *prm,
  * this)): WC |v|^2 with C0 = c0; compressible (c + |v|)^2 with C0 = 0, the
  * sound speed being the particle's own.  A non-finite state, a density
  * <= 0 or (compressible) a pressure <= 0 gives +inf: the host stops the run
- * and names the particle (host/instability.c). */
+ * and names the particle (host/run/instability.c). */
 FN real eulerian_signal_speed2(CONSTANT sph_params *prm, const real rho, const real p,
                                const vec v) {
     const real v2 = vec_dot(v, v);

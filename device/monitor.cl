@@ -9,7 +9,7 @@
  *    as a strain rate.  A smooth (locally linear) motion gives m_i of order
  *    h |grad grad v|; a zigzag at the particle scale gives m_i of the order
  *    of the velocity gradient itself.  The host divides the largest m_i by
- *    the largest |L_i| (Frobenius norm) of the run so far (host/solver.c),
+ *    the largest |L_i| (Frobenius norm) of the run so far (host/run/solver.c),
  *    so the indicator is dimensionless and does not depend on the amplitude
  *    of the motion, nor blow up where a vibration turns and every |L_i|
  *    passes through zero;
@@ -18,7 +18,7 @@
  *  - the bounding box of the particles (max x, max -x), for the check that
  *    no particle has left the monitored domain.
  * Which particle tripped a check is found on the host afterwards
- * (host/instability.c, through monitor_contrib on downloaded fields).
+ * (host/run/instability.c, through monitor_contrib on downloaded fields).
  * Positions and velocities are the current ones; B_i and the neighbour
  * lists those of the last configuration rebuild.
  */
@@ -46,7 +46,7 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT sph_pa
 #if SPH_HAS_EULERIAN
     /* the particles of an Eulerian run do not move: the pair measures
      * (clustering, zigzag) are the solids' and the host does not check them
-     * for fluids (host/solver.c): skipped (a two-pass loop over every
+     * for fluids (host/run/solver.c): skipped (a two-pass loop over every
      * particle's pairs at each output) */
     (void)cap;
     (void)nbr_count;

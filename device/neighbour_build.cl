@@ -16,7 +16,7 @@
  * The frozen geometry is that of the middle of the interval it serves: the
  * positions x + s v with s = geometry_shift, half the coming advection step
  * (half the coming acoustic step with single-criterion stepping; 0 for TLSPH's
- * reference configuration), set by the host (host/solver.c); the cells are
+ * reference configuration), set by the host (host/run/solver.c); the cells are
  * those of the shifted positions too, so the pair sets are exactly those
  * within 2h there.  Position Verlet
  * (000 eqs. 27-29) conserves angular momentum exactly for central pair forces
@@ -236,7 +236,7 @@ KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restri
 #    define BUILD_PAIR_OFFSET(j) hvec_diff(pair_pos, n, i, (j))
 #elif SPH_HAS_EULERIAN
 /* fixed particles (eulerian_step.cl): no shift; across a periodic axis the
- * nearest image (unique: a period is at least two cut-offs, host/scene.c) */
+ * nearest image (unique: a period is at least two cut-offs, host/setup/scene.c) */
 #    define BUILD_PAIR_OFFSET(j) periodic_image(prm, hvec_diff(pos, n, i, (j)))
 #else
 #    define BUILD_PAIR_OFFSET(j)                                                                   \

@@ -144,7 +144,7 @@ FN void substep_contrib(const int i, const int n, const real dt, CONSTANT sph_pa
 #endif
     const real v2 = vec_dot(v, v);
     /* the max reduction (fmax) would drop a NaN: make it the largest value,
-     * so that the host sees a non-finite speed and stops (host/solver.c) */
+     * so that the host sees a non-finite speed and stops (host/run/solver.c) */
     c[0] = isfinite(v2) ? v2 : INFINITY;
     if (RUNTIME_ROTATION != ROTATION_AVERAGED) return;
     const int ncomp = substep_ncomp(prm);

@@ -42,7 +42,7 @@
     ((f) == FORMULATION_EULERIAN_WC || (f) == FORMULATION_EULERIAN_COMPRESSIBLE)
 
 /* Particle kinds of fluid scenes with walls or a far field (field `kind`,
- * device/eulerian_step.cl; host/particles.h) */
+ * device/eulerian_step.cl; host/setup/particles.h) */
 #define SPH_PARTICLE_FLUID   0 /* fluid */
 #define SPH_PARTICLE_WALL    1 /* a particle of a wall body: at rest, bounds the fluid */
 #define SPH_PARTICLE_INFLOW  2 /* far-field fluid, inflow face: free stream blended in */

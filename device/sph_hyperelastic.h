@@ -13,7 +13,7 @@
 
 /* Saint Venant-Kirchhoff (004 eq. 24): P = F S, S = lambda tr(E) I + 2 mu E,
  * E = (F^T F - I)/2, lambda = K - 2G/3 also in 2D (plane strain, as 004;
- * host/feature_set.c). */
+ * host/model/feature_set.c). */
 FN mat tl_svk_pk1(const mat f, const real lambda, const real mu) {
     mat e = mat_scale(mat_mul(mat_transpose(f), f), R(0.5));
     UNROLL for (int a = 0; a < SPH_DIM; ++a) e.m[a][a] -= R(0.5);

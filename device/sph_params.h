@@ -59,7 +59,7 @@
  * paths the native backend compiles into each variant and chooses between
  * at run time (one variant serves every kernel, rotation mode, body count,
  * plasticity switch and elastic law;
- * host/cpu_kernel_tables.c); the OpenCL program has them as -D constants
+ * host/backend/cpu/cpu_kernel_tables.c); the OpenCL program has them as -D constants
  * (sph_prelude.h, RUNTIME_*) and never reads these fields. */
 #define SPH_PARAMS_FIELDS(X, S, T)                                                                 \
     X(S, T, REAL, h, 1, "smoothing length h")                                                      \
@@ -142,7 +142,7 @@
 /* The device program has the instance of its precision only (double needs
  * cl_khr_fp64).  OpenCL C 1.2 has no _Static_assert: a negative array size
  * fails the build instead.  SPH_PARAMS_SIZE is the host's sizeof (an option
- * of the build, host/feature_set.c), so a layout the two compilers disagree
+ * of the build, host/model/feature_set.c), so a layout the two compilers disagree
  * on cannot run. */
 #    if SPH_DOUBLE
 SPH_PARAMS_DEFINE(f64, double)

@@ -23,7 +23,7 @@
 #define SPH_PLASTICITY_H
 #include "sph_elasticity.h"
 /* unconditional: the OpenCL program text holds each header once, at its
- * first #include (host/opencl_runtime.c), so a guarded first include would
+ * first #include (host/backend/opencl/opencl_runtime.c), so a guarded first include would
  * hide it from sph_artificial_stress.h */
 #include "sph_eigen.h"
 
