@@ -18,6 +18,8 @@
  *     shared by three triangles (a face doubled, reversed).
  */
 #include "mesh.h"
+#include "particles.h"
+#include "scene.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -257,6 +259,46 @@ int main(void) {
     snprintf(path, sizeof path, "%s/fin.stl", dir);
     write_ascii_stl(path, (const int(*)[3])tri, 13);
     expect_refused(&t, path, "more than two triangles");
+
+    /* a mesh in a union and in a difference: the unit cube of
+     * cube_ascii.stl with a box half its size cut away, and with a box as
+     * large added beside it; dp = 0.1 puts the lattice's cell centres off
+     * every face, so the counts are exact: 500 and 2000 against the cube's 1000 */
+    {
+        static const char *const parts[2] = {
+            "carved = { type = \"difference\"; parts = [\"cube\", \"half\"]; };",
+            "carved = { type = \"union\"; parts = [\"cube\", \"extra\"]; };"};
+        static const int expected[2] = {500, 2000};
+        for (int k = 0; k < 2; k++) {
+            char text[2048], scene_path[512];
+            snprintf(text, sizeof text,
+                     "dimension = 3;\nresolution = { dp = 0.1; };\n"
+                     "method = { formulation = \"enog-a\"; };\n"
+                     "time = { end = 1e-4; output_interval = 1e-4; };\n"
+                     "materials = { m = { density = 1000.0; youngs_modulus = 1e6; "
+                     "poisson_ratio = 0.3; }; };\n"
+                     "shapes = {\n  cube = { type = \"mesh\"; file = \"cube_ascii.stl\"; };\n"
+                     "  half = { type = \"box\"; lower = [0.5, 0.0, 0.0]; upper = [1.0, 1.0, "
+                     "1.0]; };\n"
+                     "  extra = { type = \"box\"; lower = [1.0, 0.0, 0.0]; upper = [2.0, 1.0, "
+                     "1.0]; };\n  %s\n};\n"
+                     "bodies = ( { name = \"part\"; material = \"m\"; shape = \"carved\"; } );\n",
+                     parts[k]);
+            test_scene_write(&tmp, text, scene_path, sizeof scene_path);
+            sph_scene sc;
+            sph_error err = {0};
+            sph_status st = sph_scene_load(&sc, scene_path, NULL, 0, &err);
+            CHECK(&t, st == SPH_OK, "mesh %s: %s", k ? "union" : "difference", err.msg);
+            if (st) continue;
+            sph_particles p = {0};
+            st = sph_particles_generate(&sc, &p, &err);
+            CHECK(&t, st == SPH_OK && p.n == expected[k], "mesh %s: %d particles (%s), expected %d",
+                  k ? "union" : "difference", p.n, st ? err.msg : "", expected[k]);
+            printf("the cube mesh in a %s: %d particles\n", k ? "union" : "difference", p.n);
+            sph_particles_free(&p);
+            sph_scene_free(&sc);
+        }
+    }
 
     static const char *const written[] = {
         "cube_ascii.stl", "cube_binary.stl", "cube.obj",    "garbage.stl",    "empty.stl",
