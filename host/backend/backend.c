@@ -141,6 +141,30 @@ int sph_grown_neighbour_capacity(int needed) {
     return needed + needed / 4 + 2;
 }
 
+sph_status sph_backend_rebuild(sph_backend *be, const sph_rebuild_steps *steps, double cutoff,
+                               int periodic_mask, const double period[3], sph_rebuild_info *info,
+                               sph_error *err) {
+    const int d = be->features.dim;
+    double red[2 * 3 + 2];
+    sph_status st = steps->reduce(be, red, err);
+    if (st) return st;
+    sph_rebuild_info_unpack(red, d, info);
+    sph_grid grid;
+    if ((st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err)))
+        return st;
+    sph_grid_make_periodic(&grid, periodic_mask, period);
+    if ((st = steps->sort(be, &grid, err))) return st;
+    for (;;) {
+        int needed = 0;
+        if ((st = steps->build(be, &grid, &needed, err))) return st;
+        if (needed == 0) break;
+        if ((st = steps->grow(be, sph_grown_neighbour_capacity(needed), err))) return st;
+    }
+    if (steps->finish && (st = steps->finish(be, err))) return st;
+    info->max_neighbours = steps->capacity(be);
+    return SPH_OK;
+}
+
 sph_status sph_backend_require_field(const sph_backend *be, sph_field f, sph_error *err) {
     if (be->fields[f].present) return SPH_OK;
     return sph_fail(err, SPH_ERR_RUNTIME, "field '%s' is not present in this run",

@@ -14,6 +14,7 @@
 
 #include "feature_set.h"
 #include "fields.h"
+#include "grid.h"
 #include "particles.h"
 #include "sph_constants.h"
 
@@ -201,5 +202,35 @@ int sph_initial_neighbour_capacity(int dim, double cutoff_over_dp);
  * beyond the current one: a quarter more, so that the next rebuilds of a
  * compressing body rarely build twice (both backends' rule). */
 int sph_grown_neighbour_capacity(int needed);
+
+/* A configuration rebuild, the same sequence on every backend
+ * (sph_backend_rebuild): the bounds and advection criteria, the cell grid
+ * over the bounds (periodic along the scene's periodic axes), the cell sort
+ * and permutation, the neighbour lists, built again at a grown capacity
+ * while a particle has more neighbours than they hold, then what follows
+ * the lists (the fluids' one-time setup).  A backend gives the steps. */
+typedef struct {
+    /* the bounding box and the advection criteria: 2 dim + 2 values
+     * (sph_rebuild_info_unpack) */
+    sph_status (*reduce)(sph_backend *be, double *out, sph_error *err);
+    /* cell ranges for `grid`, the cell keys at the shifted positions, the
+     * sort and the permutation of every field */
+    sph_status (*sort)(sph_backend *be, const sph_grid *grid, sph_error *err);
+    /* the lists at the current capacity; *needed: 0, or the largest
+     * neighbour count when it exceeds the capacity */
+    sph_status (*build)(sph_backend *be, const sph_grid *grid, int *needed, sph_error *err);
+    /* the lists' arrays at capacity cap */
+    sph_status (*grow)(sph_backend *be, int cap, sph_error *err);
+    /* after the lists (NULL: nothing) */
+    sph_status (*finish)(sph_backend *be, sph_error *err);
+    /* the lists' capacity now */
+    int (*capacity)(const sph_backend *be);
+} sph_rebuild_steps;
+
+/* Run the rebuild sequence with the backend's steps; `cutoff` is the
+ * neighbour cut-off, `periodic_mask` and `period` the periodic axes. */
+sph_status sph_backend_rebuild(sph_backend *be, const sph_rebuild_steps *steps, double cutoff,
+                               int periodic_mask, const double period[3], sph_rebuild_info *info,
+                               sph_error *err);
 
 #endif

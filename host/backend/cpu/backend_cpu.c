@@ -448,58 +448,82 @@ static void phase_end(sph_backend *be, const char *name, double start) {
     if (be->profiling) sph_backend_profile_add(be, name, omp_get_wtime() - start);
 }
 
-static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error *err) {
+/* The rebuild's steps (sph_backend_rebuild). */
+static sph_status cpu_rebuild_reduce(sph_backend *be, double *out, sph_error *err) {
+    (void)err;
     cpu_impl *c = be->impl;
-    const int d = be->features.dim;
-    double red[2 * 3 + 2];
-    double t0 = phase_start(be);
-    c->k->rebuild_reduce(&c->b, red);
+    const double t0 = phase_start(be);
+    c->k->rebuild_reduce(&c->b, out);
     phase_end(be, "rebuild_reduce", t0);
-    sph_rebuild_info_unpack(red, d, info);
+    return SPH_OK;
+}
 
-    sph_grid grid;
-    const double cutoff = c->real_size == sizeof(float)
-                              ? (double)((const sph_params_f32 *)c->b.prm)->cutoff
-                              : ((const sph_params_f64 *)c->b.prm)->cutoff;
-    sph_status st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err);
-    if (st) return st;
-    const sph_params_f64 *prm64 = c->real_size == sizeof(double) ? c->b.prm : NULL;
-    if (prm64) sph_grid_make_periodic(&grid, prm64->periodic_mask, prm64->period);
-    if (grid.ncells > c->cells_allocated) {
+static sph_status cpu_rebuild_sort(sph_backend *be, const sph_grid *grid, sph_error *err) {
+    cpu_impl *c = be->impl;
+    if (grid->ncells > c->cells_allocated) {
         free(c->b.cell_start);
         free(c->b.cell_end);
-        c->b.cell_start = malloc((size_t)grid.ncells * sizeof(int32_t));
-        c->b.cell_end = malloc((size_t)grid.ncells * sizeof(int32_t));
+        c->b.cell_start = malloc((size_t)grid->ncells * sizeof(int32_t));
+        c->b.cell_end = malloc((size_t)grid->ncells * sizeof(int32_t));
         if (!c->b.cell_start || !c->b.cell_end)
             return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory for %ld grid cells",
-                            grid.ncells);
-        c->cells_allocated = grid.ncells;
+                            grid->ncells);
+        c->cells_allocated = grid->ncells;
     }
-    t0 = phase_start(be);
-    c->k->cell_keys(&c->b, &grid, be->geometry_shift);
-    sort_by_cell(c, grid.ncells);
+    const double t0 = phase_start(be);
+    c->k->cell_keys(&c->b, grid, be->geometry_shift);
+    sort_by_cell(c, grid->ncells);
     permute_fields(be, c);
     phase_end(be, "cell sort and permutation", t0);
     /* packed rows (a fluid's) go back to the padded layout the build writes */
-    if (c->b.row_start && (st = alloc_pairs(be, c, c->b.cap, err))) return st;
-    for (;;) {
-        t0 = phase_start(be);
-        const int needed = c->k->build_neighbours(&c->b, &grid, be->geometry_shift);
-        phase_end(be, "build_neighbours", t0);
-        if (needed == 0) break;
-        st = alloc_pairs(be, c, sph_grown_neighbour_capacity(needed), err);
-        if (st) return st;
-    }
-    if (c->k->fluid_setup) {
-        t0 = phase_start(be);
-        if ((st = pack_pair_rows(be, c, err))) return st;
-        c->k->fluid_setup(&c->b);
-        /* the two stages (SSP-RK2 has a momentum-rate field) */
-        if (!c->b.field[FIELD_MOMENTUM_RATE] && (st = build_once_rows(be, c, err))) return st;
-        phase_end(be, "fluid setup", t0);
-    }
-    info->max_neighbours = c->b.cap;
+    return c->b.row_start ? alloc_pairs(be, c, c->b.cap, err) : SPH_OK;
+}
+
+static sph_status cpu_rebuild_build(sph_backend *be, const sph_grid *grid, int *needed,
+                                    sph_error *err) {
+    (void)err;
+    cpu_impl *c = be->impl;
+    const double t0 = phase_start(be);
+    *needed = c->k->build_neighbours(&c->b, grid, be->geometry_shift);
+    phase_end(be, "build_neighbours", t0);
     return SPH_OK;
+}
+
+static sph_status cpu_rebuild_grow(sph_backend *be, int cap, sph_error *err) {
+    return alloc_pairs(be, be->impl, cap, err);
+}
+
+static sph_status cpu_rebuild_finish(sph_backend *be, sph_error *err) {
+    cpu_impl *c = be->impl;
+    if (!c->k->fluid_setup) return SPH_OK;
+    const double t0 = phase_start(be);
+    sph_status st = pack_pair_rows(be, c, err);
+    if (st) return st;
+    c->k->fluid_setup(&c->b);
+    /* the two stages (SSP-RK2 has a momentum-rate field) */
+    if (!c->b.field[FIELD_MOMENTUM_RATE] && (st = build_once_rows(be, c, err))) return st;
+    phase_end(be, "fluid setup", t0);
+    return SPH_OK;
+}
+
+static int cpu_rebuild_capacity(const sph_backend *be) {
+    return ((const cpu_impl *)be->impl)->b.cap;
+}
+
+static sph_status cpu_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error *err) {
+    cpu_impl *c = be->impl;
+    static const sph_rebuild_steps steps = {cpu_rebuild_reduce, cpu_rebuild_sort,
+                                            cpu_rebuild_build,  cpu_rebuild_grow,
+                                            cpu_rebuild_finish, cpu_rebuild_capacity};
+    /* the cut-off in the run precision, as the kernels hold it; periodic
+     * axes are the fluids', which run in double */
+    const double cutoff = c->real_size == sizeof(float)
+                              ? (double)((const sph_params_f32 *)c->b.prm)->cutoff
+                              : ((const sph_params_f64 *)c->b.prm)->cutoff;
+    const sph_params_f64 *prm64 = c->real_size == sizeof(double) ? c->b.prm : NULL;
+    static const double no_period[3] = {0, 0, 0};
+    return sph_backend_rebuild(be, &steps, cutoff, prm64 ? prm64->periodic_mask : 0,
+                               prm64 ? prm64->period : no_period, info, err);
 }
 
 static sph_status cpu_substep(sph_backend *be, double dt, double *max_speed2, sph_error *err) {

@@ -520,77 +520,107 @@ static sph_status permute_fields(sph_backend *be, ocl_impl *o, sph_error *err) {
     return SPH_OK;
 }
 
-static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error *err) {
+/* The rebuild's steps (sph_backend_rebuild). */
+static sph_status ocl_rebuild_reduce(sph_backend *be, double *out, sph_error *err) {
     ocl_impl *o = be->impl;
-    const int d = be->features.dim;
-    const int ncomp = 2 * d + 2;
+    const int ncomp = 2 * be->features.dim + 2;
     sph_status st = launch(o, &o->k.rebuild_reduce, o->reduce_items, o->wg, NULL, 0, err);
     if (!st) st = finalize(o, ncomp, ncomp, o->result, err);
-    double red[8];
-    if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, red, err);
-    if (st) return st;
-    sph_rebuild_info_unpack(red, d, info);
+    if (!st) st = read_reals(o, o->result, 0, (size_t)ncomp, out, err);
+    return st;
+}
 
-    sph_grid grid;
-    st = sph_grid_from_bounds(d, info->lower, info->upper, o->cutoff, be->n, &grid, err);
-    if (st) return st;
-    sph_grid_make_periodic(&grid, o->periodic_mask, o->period);
-    if (grid.ncells > o->cells_allocated) {
+/* the geometry shift as the kernels' argument */
+static sph_cl_arg shift_argument(const sph_backend *be, real_scalar *s) {
+    return real_arg(be->impl, "geometry_shift", s, be->geometry_shift);
+}
+
+static sph_status ocl_rebuild_sort(sph_backend *be, const sph_grid *grid, sph_error *err) {
+    ocl_impl *o = be->impl;
+    sph_status st = SPH_OK;
+    if (grid->ncells > o->cells_allocated) {
         release(&o->cell_start);
         release(&o->cell_end);
-        const size_t bytes = (size_t)grid.ncells * sizeof(cl_int);
+        const size_t bytes = (size_t)grid->ncells * sizeof(cl_int);
         st = make_buffer(be, o, "cell_start", bytes, &o->cell_start, err);
         if (!st) st = make_buffer(be, o, "cell_end", bytes, &o->cell_end, err);
         if (st) return st;
-        o->cells_allocated = grid.ncells;
+        o->cells_allocated = grid->ncells;
     }
-    o->gx = grid.dims[0];
-    o->gy = grid.dims[1];
-    o->gz = grid.dims[2];
-    double geom[4] = {grid.origin[0], grid.origin[1], grid.origin[2], 1.0 / grid.cell};
+    o->gx = grid->dims[0];
+    o->gy = grid->dims[1];
+    o->gz = grid->dims[2];
+    double geom[4] = {grid->origin[0], grid->origin[1], grid->origin[2], 1.0 / grid->cell};
     st = write_reals(o, o->grid_geom, geom, 4, err);
     real_scalar shift_s;
-    const sph_cl_arg shift_arg = real_arg(o, "geometry_shift", &shift_s, be->geometry_shift);
+    const sph_cl_arg shift_arg = shift_argument(be, &shift_s);
     if (!st) st = launch(o, &o->k.cell_keys, (size_t)o->npad, o->item_wg, &shift_arg, 1, err);
     if (!st) st = o->counting_sort ? sort_keys_counting(o, err) : sort_keys_bitonic(o, err);
     if (!st) st = permute_fields(be, o, err);
     if (!st && o->pair_recompute)
         st = launch(o, &o->k.shifted_positions, (size_t)be->n, o->item_wg, &shift_arg, 1, err);
-    if (st) return st;
+    if (st || o->counting_sort) return st;
+    /* the bitonic sort leaves the cell ranges to a pass of their own */
     const cl_int zero = 0;
-    if (!o->counting_sort) {
-        st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_start, &zero, sizeof zero, 0,
-                                          (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
+    st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_start, &zero, sizeof zero, 0,
+                                      (size_t)grid->ncells * sizeof(cl_int), 0, NULL, NULL),
+                  "clearing cell ranges", err);
+    if (!st)
+        st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_end, &zero, sizeof zero, 0,
+                                          (size_t)grid->ncells * sizeof(cl_int), 0, NULL, NULL),
                       "clearing cell ranges", err);
-        if (!st)
-            st = cl_check(clEnqueueFillBuffer(o->queue, o->cell_end, &zero, sizeof zero, 0,
-                                              (size_t)grid.ncells * sizeof(cl_int), 0, NULL, NULL),
-                          "clearing cell ranges", err);
-        if (!st) st = launch(o, &o->k.cell_ranges, (size_t)be->n, o->item_wg, NULL, 0, err);
-    }
-    while (!st) {
-        cl_int needed = 0;
-        st = cl_check(clEnqueueFillBuffer(o->queue, o->overflow, &zero, sizeof zero, 0,
-                                          sizeof(cl_int), 0, NULL, NULL),
-                      "clearing the overflow flag", err);
-        if (!st) st = launch(o, &o->k.build, (size_t)be->n, o->item_wg, &shift_arg, 1, err);
-        if (!st)
-            st = cl_check(clEnqueueReadBuffer(o->queue, o->overflow, CL_TRUE, 0, sizeof needed,
-                                              &needed, 0, NULL, NULL),
-                          "reading the neighbour count", err);
-        if (st || needed == 0) break;
-        st = alloc_pairs(be, o, sph_grown_neighbour_capacity(needed), err);
-    }
-    /* fluids, once (the only rebuild): the initial EOS state and the
-     * corrected pair gradients (eulerian_step.cl) */
-    if (!st && o->k.eulerian_prepare.kernel)
+    if (!st) st = launch(o, &o->k.cell_ranges, (size_t)be->n, o->item_wg, NULL, 0, err);
+    return st;
+}
+
+static sph_status ocl_rebuild_build(sph_backend *be, const sph_grid *grid, int *needed,
+                                    sph_error *err) {
+    (void)grid; /* the device holds its geometry (grid_geom, gx, gy, gz) */
+    ocl_impl *o = be->impl;
+    const cl_int zero = 0;
+    cl_int count = 0;
+    real_scalar shift_s;
+    const sph_cl_arg shift_arg = shift_argument(be, &shift_s);
+    sph_status st = cl_check(clEnqueueFillBuffer(o->queue, o->overflow, &zero, sizeof zero, 0,
+                                                 sizeof(cl_int), 0, NULL, NULL),
+                             "clearing the overflow flag", err);
+    if (!st) st = launch(o, &o->k.build, (size_t)be->n, o->item_wg, &shift_arg, 1, err);
+    if (!st)
+        st = cl_check(clEnqueueReadBuffer(o->queue, o->overflow, CL_TRUE, 0, sizeof count, &count,
+                                          0, NULL, NULL),
+                      "reading the neighbour count", err);
+    *needed = count;
+    return st;
+}
+
+static sph_status ocl_rebuild_grow(sph_backend *be, int cap, sph_error *err) {
+    return alloc_pairs(be, be->impl, cap, err);
+}
+
+/* fluids, once (the only rebuild): the initial EOS state and the corrected
+ * pair gradients (eulerian_step.cl) */
+static sph_status ocl_rebuild_finish(sph_backend *be, sph_error *err) {
+    ocl_impl *o = be->impl;
+    sph_status st = SPH_OK;
+    if (o->k.eulerian_prepare.kernel)
         st = launch(o, &o->k.eulerian_prepare, (size_t)be->n, o->item_wg, NULL, 0, err);
     if (!st && o->k.eulerian_correct_pairs.kernel)
         st = launch(o, &o->k.eulerian_correct_pairs, (size_t)be->n, o->item_wg, NULL, 0, err);
     if (!st && o->k.eulerian_far_field.kernel)
         st = launch(o, &o->k.eulerian_far_field, (size_t)be->n, o->item_wg, NULL, 0, err);
-    info->max_neighbours = o->cap;
     return st;
+}
+
+static int ocl_rebuild_capacity(const sph_backend *be) {
+    return ((const ocl_impl *)be->impl)->cap;
+}
+
+static sph_status ocl_rebuild(sph_backend *be, sph_rebuild_info *info, sph_error *err) {
+    ocl_impl *o = be->impl;
+    static const sph_rebuild_steps steps = {ocl_rebuild_reduce, ocl_rebuild_sort,
+                                            ocl_rebuild_build,  ocl_rebuild_grow,
+                                            ocl_rebuild_finish, ocl_rebuild_capacity};
+    return sph_backend_rebuild(be, &steps, o->cutoff, o->periodic_mask, o->period, info, err);
 }
 
 /* Enqueue one acoustic substep's passes and the first stage of its
