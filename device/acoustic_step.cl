@@ -151,6 +151,56 @@ KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, STEP_DT_PARA
 }
 #endif
 
+/* acoustic_pressure's neighbour sum, e_ij (-(p_i + p_j) dW V_j) in
+ * SPH_PAIR_LANES lanes (sph_prelude.h; see acoustic_velocity_terms) with
+ * its factor, RIEMANN_PRESSURE_FACTOR (sph_riemann.h).  `vary`: read each
+ * neighbour's material row (several materials); else every neighbour's is
+ * row 0. */
+FN_HOT vec pressure_pair_sum(const int i, const int n, const int cap, const real half_dt,
+                             const real p_i, const bool vary, CONSTANT sph_params *prm,
+                             GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,
+                             PAIR_DIR_PARAMS, GLOBAL const real *restrict vol,
+                             GLOBAL const hreal *restrict rho,
+                             GLOBAL const real *restrict drho MATERIAL_PARAMS) {
+    const int stride = n * cap; /* the stored pair arrays (PAIR_DIR) */
+    (void)stride;
+    (void)vol; /* the recomputed geometry's */
+    (void)vary;
+    CONSTANT sph_params_material *row0 = MATERIAL_ROW(0);
+    lanes lane_sum[SPH_DIM];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] = lanes_zero();
+    const int count = nbr_count[i];
+    for (int k0 = 0; k0 < count; k0 += SPH_PAIR_LANES) {
+        lanes e[SPH_DIM], dwv = lanes_zero(), p_j = lanes_zero();
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_zero();
+#if PAIR_LANES_DIRECT
+        if (k0 + SPH_PAIR_LANES <= count) {
+            const int slot = NBR_AT(i, k0);
+            dwv = lanes_load(pair_dwv + slot);
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_load(pair_e + a * stride + slot);
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                const int j = nbr_j[slot + l];
+                LANE(p_j, l) = half_step_pressure(vary ? MATERIAL_ROW(MATERIAL_OF(j)) : row0,
+                                                  rho[j], drho[j], half_dt);
+            }
+        } else
+#endif
+            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+                int j;
+                const int slot = lane_pair(nbr_j, n, cap, i, k0 + l, count, &j);
+                LANE(p_j, l) = half_step_pressure(vary ? MATERIAL_ROW(MATERIAL_OF(j)) : row0,
+                                                  rho[j], drho[j], half_dt);
+                lane_set_geometry(PAIR_DIR(slot, j), k0 + l < count, l, e, &dwv, 0);
+            }
+        const lanes f = RIEMANN_PRESSURE_FACTOR(p_i, p_j, dwv);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] += e[a] * f;
+    }
+    vec sum = vec_zero();
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a)
+        sum.c[a] += LANE(lane_sum[a], l);
+    return sum;
+}
+
 KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                               CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
                               GLOBAL const int *restrict nbr_j, PAIR_DIR_PARAMS,
@@ -169,49 +219,13 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, STEP_DT_PAR
     CONSTANT sph_params_material *mat_i = MATERIAL_ROW(MATERIAL_OF(i));
     const real p_i = half_step_pressure(mat_i, rho[i], drho[i], half_dt);
 
-    /* sum of riemann_pressure_pair, e_ij (-(p_i + p_j) dW V_j), in
-     * SPH_PAIR_LANES lanes (sph_prelude.h; see acoustic_velocity_terms) with
-     * its factor, RIEMANN_PRESSURE_FACTOR (sph_riemann.h) */
-    lanes lane_sum[SPH_DIM];
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] = lanes_zero();
-    const int count = nbr_count[i];
-    for (int k0 = 0; k0 < count; k0 += SPH_PAIR_LANES) {
-        lanes e[SPH_DIM], dwv = lanes_zero(), p_j = lanes_zero();
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_zero();
-#if PAIR_LANES_DIRECT
-        if (k0 + SPH_PAIR_LANES <= count) {
-            const int slot = NBR_AT(i, k0);
-            dwv = lanes_load(pair_dwv + slot);
-            UNROLL for (int a = 0; a < SPH_DIM; ++a) e[a] = lanes_load(pair_e + a * stride + slot);
-            /* the material test out of the lanes: a one-material run's
-             * lanes are those of a program without material ids */
-            if (MATERIALS_VARY) {
-                UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-                    const int j = nbr_j[slot + l];
-                    LANE(p_j, l) =
-                        half_step_pressure(MATERIAL_ROW(MATERIAL_OF(j)), rho[j], drho[j], half_dt);
-                }
-            } else {
-                UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-                    const int j = nbr_j[slot + l];
-                    LANE(p_j, l) = half_step_pressure(mat_i, rho[j], drho[j], half_dt);
-                }
-            }
-        } else
-#endif
-            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-                int j;
-                const int slot = lane_pair(nbr_j, n, cap, i, k0 + l, count, &j);
-                LANE(p_j, l) =
-                    half_step_pressure(MATERIAL_ROW(MATERIAL_OF(j)), rho[j], drho[j], half_dt);
-                lane_set_geometry(PAIR_DIR(slot, j), k0 + l < count, l, e, &dwv, 0);
-            }
-        const lanes f = RIEMANN_PRESSURE_FACTOR(p_i, p_j, dwv);
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_sum[a] += e[a] * f;
-    }
-    vec sum = vec_zero();
-    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a)
-        sum.c[a] += LANE(lane_sum[a], l);
+    /* a one-material run's lanes are those of a program without material
+     * ids: `vary` is a constant of each inlined copy */
+    const vec sum = MATERIALS_VARY
+                        ? pressure_pair_sum(i, n, cap, half_dt, p_i, true, prm, nbr_count, nbr_j,
+                                            PAIR_DIR_ARGS, vol, rho, drho MATERIAL_ARG)
+                        : pressure_pair_sum(i, n, cap, half_dt, p_i, false, prm, nbr_count, nbr_j,
+                                            PAIR_DIR_ARGS, vol, rho, drho MATERIAL_ARG);
     const vec a_p = vec_add(vec_scale(sum, vol[i] / mass[i]), vec_load(acc_diss, n, i));
 
     vec a_s = hvec_load(acc_shear, n, i);
@@ -276,6 +290,47 @@ KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, STEP_DT_PAR
 #endif
     verlet_advance(prm, n, i, dt, vec_add(a_p, a_s), pos, vel, CLAMP_ARG);
 }
+
+#if SPH_HAS_MATERIAL_IDS
+/* The two-material corrections of acoustic_velocity_terms' sums: for each
+ * neighbour j of another material than i, dissipation += (ratio_Z
+ * beta(c_ij) - beta(c_i)) u dW V_j e_ij and laplacian += (ratio_G - 1)
+ * u dW V_j / r e_ij, which turn the one-material pair terms the lanes summed
+ * into the pair's two-material ones (sph_materials.h). */
+FN void interface_velocity_terms(const int i, const int n, const int cap, CONSTANT sph_params *prm,
+                                 GLOBAL const int *restrict nbr_count,
+                                 GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
+                                 GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
+                                 GLOBAL const u8 *restrict material, vec *dissipation,
+                                 vec *laplacian) {
+    const int stride = n * cap; /* the stored pair arrays (PAIR_GEOMETRY) */
+    (void)stride;
+    (void)vol; /* the recomputed geometry's */
+    const int m_i = material[i];
+    CONSTANT sph_params_material *mat_i = MATERIAL_ROW(m_i);
+    const real slope = prm->riemann_limit;
+    const vec v_i = vec_load(vel, n, i);
+    const int count = nbr_count[i];
+    for (int k = 0; k < count; ++k) {
+        const int slot = NBR_AT(i, k);
+        const int j = nbr_j[slot];
+        if ((int)material[j] == m_i) continue;
+        CONSTANT sph_params_material *mat_j = MATERIAL_ROW(material[j]);
+        const pair_geometry g = PAIR_GEOMETRY(slot, j);
+        const real u = vec_dot(vec_sub(v_i, vec_load(vel, n, j)), g.e);
+        const real u_dwv = RIEMANN_CONTINUITY_FACTOR(u, g.dwv);
+        const real own = riemann_dissipation_factor(u, mat_i->c0, slope, g.dwv);
+        const real pair =
+            riemann_dissipation_factor(u, R(0.5) * (mat_i->c0 + mat_j->c0), slope, g.dwv) *
+            impedance_ratio(mat_i, mat_j);
+        *dissipation = vec_axpy(*dissipation, pair - own, g.e);
+        *laplacian = vec_axpy(*laplacian,
+                              (harmonic_ratio(mat_i->shear_modulus, mat_j->shear_modulus) - R(1)) *
+                                  u_dwv * g.inv_r,
+                              g.e);
+    }
+}
+#endif
 
 KERNEL void acoustic_velocity_terms(
     ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
@@ -343,24 +398,10 @@ KERNEL void acoustic_velocity_terms(
         /* riemann_dissipation_factor: u dW V_j itself (beta = 1) unless the
          * scene limits the dissipation */
         lanes diss = u_dwv;
-        lanes lap = u_dwv * inv_r;
-        if (MATERIALS_VARY) {
-            /* a pair of two materials (sph_materials.h): the impedances'
-             * and the shear moduli's harmonic means over i's own, the
-             * limiter at the mean sound speed; 1 and c0 within a material */
-            UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-                int j;
-                (void)lane_pair(nbr_j, n, cap, i, k0 + l, count, &j);
-                CONSTANT sph_params_material *mat_j = MATERIAL_ROW(MATERIAL_OF(j));
-                if (limited)
-                    LANE(diss, l) = riemann_dissipation_factor(
-                        LANE(u, l), R(0.5) * (c0 + mat_j->c0), limiter_slope, LANE(dwv, l));
-                LANE(diss, l) *= impedance_ratio(mat_i, mat_j);
-                LANE(lap, l) *= harmonic_ratio(mat_i->shear_modulus, mat_j->shear_modulus);
-            }
-        } else if (limited)
+        if (limited)
             UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) LANE(diss, l) =
                 riemann_dissipation_factor(LANE(u, l), c0, limiter_slope, LANE(dwv, l));
+        const lanes lap = u_dwv * inv_r;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) {
             lane_diss[a] += e[a] * diss;
             lane_lap[a] += lap * e[a];
@@ -378,6 +419,16 @@ KERNEL void acoustic_velocity_terms(
             UNROLL for (int b = 0; b < SPH_DIM; ++b) grad_sum.m[a][b] += LANE(lane_grad[a][b], l);
         }
     }
+#if SPH_HAS_MATERIAL_IDS
+    /* pairs of two materials (sph_materials.h): their dissipation and
+     * Laplacian terms scaled by the impedances' and the shear moduli's
+     * harmonic means over i's own, the limiter at the mean sound speed; a
+     * pass of its own over the neighbours, so the lanes above stay those of
+     * a one-material run */
+    if (MATERIALS_VARY)
+        interface_velocity_terms(i, n, cap, prm, nbr_count, nbr_j, PAIR_GEOMETRY_ARGS, vel, vol,
+                                 material, &dissipation, &laplacian);
+#endif
 
     /* continuity and the second density half-step */
     const hreal rho_half = rho[i] + half_dt * drho[i];
@@ -554,10 +605,14 @@ KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_
             if (PRESENT(penalty_scale)) s_ij = R(0.5) * (s_i + penalty_scale[j]);
 #        endif
             real weight = s_ij * dwv;
-            /* two materials: the shear moduli's harmonic mean (sph_materials.h) */
-            if (MATERIALS_VARY)
-                weight *= harmonic_ratio(mat_i->shear_modulus,
-                                         MATERIAL_ROW(MATERIAL_OF(j))->shear_modulus);
+#        if SPH_HAS_MATERIAL_IDS
+            /* two materials: the shear moduli's harmonic mean
+             * (sph_materials.h); the test is a load and a compare where
+             * the penalty's own terms are some forty operations */
+            if (MATERIALS_VARY && material[j] != material[i])
+                weight *=
+                    harmonic_ratio(mat_i->shear_modulus, MATERIAL_ROW(material[j])->shear_modulus);
+#        endif
             pen_sum = projected ? vec_axpy(pen_sum, weight * vec_dot(v_hat_over_r, e), e)
                                 : vec_axpy(pen_sum, weight, v_hat_over_r);
         }

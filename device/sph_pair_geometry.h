@@ -46,6 +46,8 @@ typedef struct {
 #if SPH_PAIR_RECOMPUTE
 #    define PAIR_DIR_PARAMS        GLOBAL const hreal *restrict pair_pos
 #    define PAIR_GEOMETRY_PARAMS   GLOBAL const hreal *restrict pair_pos
+#    define PAIR_GEOMETRY_ARGS     pair_pos
+#    define PAIR_DIR_ARGS          pair_pos
 #    define PAIR_DIR(slot, j)      pair_geometry_recomputed(prm, pair_pos, vol, n, i, (j))
 #    define PAIR_GEOMETRY(slot, j) pair_geometry_recomputed(prm, pair_pos, vol, n, i, (j))
 
@@ -66,6 +68,8 @@ FN pair_geometry pair_geometry_recomputed(CONSTANT sph_params *prm,
 #else
 #    define PAIR_DIR_PARAMS      GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv
 #    define PAIR_GEOMETRY_PARAMS PAIR_DIR_PARAMS, GLOBAL const real *restrict pair_inv_r
+#    define PAIR_GEOMETRY_ARGS   pair_e, pair_dwv, pair_inv_r
+#    define PAIR_DIR_ARGS        pair_e, pair_dwv
 #    define PAIR_DIR(slot, j)    pair_geometry_stored(pair_e, pair_dwv, 0, stride, (slot))
 #    define PAIR_GEOMETRY(slot, j)                                                                 \
         pair_geometry_stored(pair_e, pair_dwv, pair_inv_r, stride, (slot))
