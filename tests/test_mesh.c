@@ -20,13 +20,16 @@
 #include "mesh.h"
 #include "particles.h"
 #include "scene.h"
+#include "sph_constants.h"
 #include "test_support.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define PI 3.14159265358979323846
 
@@ -297,6 +300,100 @@ int main(void) {
             printf("the cube mesh in a %s: %d particles\n", k ? "union" : "difference", p.n);
             sph_particles_free(&p);
             sph_scene_free(&sc);
+        }
+    }
+
+    /* a mesh as a fluid's wall body: the icosphere of cases/mesh_ball_3d
+     * as a ball at rest in a periodic box of weakly compressible fluid,
+     * against the built-in ball: the same particles to the facets'
+     * sagitta (fluid and wall counts within 1 %), wall normals from the
+     * mesh's pseudonormals within 2 degrees of the ball's on average */
+    {
+        /* absolute: the scene resolves a relative file against its own directory */
+        char ball_rel[512], ball_stl[PATH_MAX];
+        test_repo_path("cases/mesh_ball_3d/ball.stl", ball_rel, sizeof ball_rel);
+        char cwd[PATH_MAX - 600] = ".";
+        if (ball_rel[0] != '/' && getcwd(cwd, sizeof cwd))
+            snprintf(ball_stl, sizeof ball_stl, "%s/%s", cwd, ball_rel);
+        else
+            snprintf(ball_stl, sizeof ball_stl, "%s", ball_rel);
+        static const char *const wall_shape[2] = {
+            "wall = { type = \"ball\"; centre = [0.15, 0.15, 0.15]; radius = 0.05; };",
+            "wall = { type = \"mesh\"; file = \"%s\"; scale = 0.05; translate = [0.15, 0.15, "
+            "0.15]; };"};
+        int nfluid[2] = {0, 0}, nwall[2] = {0, 0};
+        double *normals[2] = {NULL, NULL}, *positions[2] = {NULL, NULL};
+        for (int k = 0; k < 2; k++) {
+            char shape[1024], text[4096], scene_path[512];
+            snprintf(shape, sizeof shape, wall_shape[k], ball_stl);
+            snprintf(text, sizeof text,
+                     "dimension = 3;\nresolution = { dp = 0.01; };\n"
+                     "method = { formulation = \"eulerian-wc\"; kernel = \"laguerre-gauss\"; };\n"
+                     "time = { end = 1e-3; output_interval = 1e-3; };\n"
+                     "materials = { water = { density = 1.0; sound_speed = 10.0; viscosity = "
+                     "0.01; }; };\n"
+                     "shapes = {\n  box = { type = \"box\"; lower = [0.0, 0.0, 0.0]; upper = "
+                     "[0.3, 0.3, 0.3]; };\n  %s\n"
+                     "  flow = { type = \"difference\"; parts = [\"box\", \"wall\"]; };\n};\n"
+                     "bodies = ( { name = \"fluid\"; material = \"water\"; shape = \"flow\"; },\n"
+                     "  { name = \"ball\"; role = \"wall\"; shape = \"wall\"; } );\n"
+                     "boundary = { periodic = [\"x\", \"y\", \"z\"]; lower = [0.0, 0.0, 0.0]; "
+                     "upper = [0.3, 0.3, 0.3]; };\n",
+                     shape);
+            test_scene_write(&tmp, text, scene_path, sizeof scene_path);
+            sph_scene sc;
+            sph_error err = {0};
+            sph_status st = sph_scene_load(&sc, scene_path, NULL, 0, &err);
+            CHECK(&t, st == SPH_OK, "fluid wall %s: %s", k ? "mesh" : "ball", err.msg);
+            if (st) continue;
+            sph_particles p = {0};
+            st = sph_particles_generate(&sc, &p, &err);
+            CHECK(&t, st == SPH_OK && p.kind != NULL, "fluid wall %s: %s", k ? "mesh" : "ball",
+                  err.msg);
+            if (!st && p.kind) {
+                normals[k] = malloc((size_t)p.n * 3 * sizeof(double));
+                positions[k] = malloc((size_t)p.n * 3 * sizeof(double));
+                for (int i = 0; i < p.n; i++) {
+                    if (p.kind[i] != SPH_PARTICLE_WALL) {
+                        nfluid[k]++;
+                        continue;
+                    }
+                    for (int a = 0; a < 3; a++) {
+                        normals[k][nwall[k] * 3 + a] =
+                            p.normal[(size_t)a * (size_t)p.n + (size_t)i];
+                        positions[k][nwall[k] * 3 + a] = p.pos[(size_t)a * (size_t)p.n + (size_t)i];
+                    }
+                    nwall[k]++;
+                }
+            }
+            sph_particles_free(&p);
+            sph_scene_free(&sc);
+        }
+        /* each mesh wall particle's normal against the ball's radial
+         * direction at its position (the ball's own normal there) */
+        double mean_angle = 0.0;
+        for (int q = 0; q < nwall[1] && normals[1]; q++) {
+            double r[3], rn = 0.0, dot = 0.0;
+            for (int a = 0; a < 3; a++) {
+                r[a] = positions[1][q * 3 + a] - 0.15;
+                rn += r[a] * r[a];
+            }
+            rn = sqrt(rn);
+            for (int a = 0; a < 3; a++) dot += normals[1][q * 3 + a] * r[a] / rn;
+            mean_angle += acos(fmin(1.0, fmax(-1.0, dot))) / nwall[1];
+        }
+        printf("fluid around a wall ball: built-in %d fluid + %d wall particles, mesh %d + %d; "
+               "mesh wall normals %.3f degrees from radial on average\n",
+               nfluid[0], nwall[0], nfluid[1], nwall[1], mean_angle * 180.0 / PI);
+        CHECK(&t,
+              nwall[0] > 0 && abs(nwall[1] - nwall[0]) <= nwall[0] / 100 &&
+                  abs(nfluid[1] - nfluid[0]) <= nfluid[0] / 100,
+              "fluid wall: counts %d/%d against %d/%d", nfluid[1], nwall[1], nfluid[0], nwall[0]);
+        CHECK(&t, nwall[1] > 0 && mean_angle * 180.0 / PI < 2.0,
+              "fluid wall: mean normal angle %.3f degrees", mean_angle * 180.0 / PI);
+        for (int k = 0; k < 2; k++) {
+            free(normals[k]);
+            free(positions[k]);
         }
     }
 
