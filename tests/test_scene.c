@@ -1,4 +1,4 @@
-/* test_scene — scene loading, overrides and error reporting (host/setup/scene.c).
+/* test_scene — scene loading, overrides and error reporting (host/setup/scene/).
  *
  * The two shipped cases must load with the values their files state; the
  * derived material constants follow 000 eq. 5 (c0 = sqrt(E / (3 (1 - 2 nu)

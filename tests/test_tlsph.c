@@ -49,13 +49,14 @@
  * build's.
  */
 #include "physics.h"
+#include "scene_schema.h"
 #include "test_support.h"
 
 #include <math.h>
 
 #define PATCH_N 20
-/* the scene default of method.hourglass_alpha (host/setup/scene.c) */
-#define HOURGLASS_ALPHA 0.1
+/* the scene default of method.hourglass_alpha (the schema, scene_keys.def) */
+#define HOURGLASS_ALPHA (sph_scene_key_at(SK_METHOD_HOURGLASS_ALPHA)->def)
 /* checkerboard patch after 200 steps: the indicator with alpha = 0 over the
  * one with HOURGLASS_ALPHA measured 15.7 (native backend); the bound keeps a
  * factor 3 of margin and still means "much smaller" */

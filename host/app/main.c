@@ -9,6 +9,7 @@
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
  *   sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]
  *   sphsolid kernel-study [--out DIR] [--dp X] [--kappas list] [--kernels list]
+ *   sphsolid scene-keys [SECTION]
  *   sphsolid devices
  *   sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K] [--json]
  *
@@ -23,6 +24,7 @@
 #include "plot.h"
 #include "particles.h"
 #include "run.h"
+#include "scene_schema.h"
 
 #include <errno.h>
 #include <stdbool.h>
@@ -47,6 +49,7 @@ static void usage(FILE *f) {
         "       sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]\n"
         "       sphsolid kernel-study [--out DIR] [--dp X] [--kappas list] [--kernels list]\n"
         "                             [--steps N] [--seed S] [--exclude E]\n"
+        "       sphsolid scene-keys [SECTION]\n"
         "       sphsolid devices\n"
         "       sphsolid bandwidth [--backend cpu|opencl] [--device N] [--size-mb M] [--repeat K]\n"
         "                          [--json]\n"
@@ -86,6 +89,9 @@ static void usage(FILE *f) {
         "          each kernel at each kappa = h/dp (h = 1.3 X, X = --dp, default 1/60);\n"
         "          df/dx errors and relaxation residues into DIR/kernel_study.json\n"
         "          (default DIR: runs/kernel-study; docs/kernel-study.md)\n"
+        "scene-keys  the scene schema: every key a scene file may hold, its type, default,\n"
+        "          range and meaning, as the Markdown tables of docs/scene-format.md (one\n"
+        "          SECTION: `method`, `shapes.box`, ...; \"\" for the top level)\n"
         "compare   per-field maximum differences of two runs' snapshots and time series\n"
         "bandwidth the device's memory bandwidth: a streaming copy, GB/s (read + write)\n"
         "exit status: 0 success, 2 bad input, 1 runtime failure, 3 compare: beyond tolerance,\n"
@@ -104,6 +110,25 @@ static int input_error(const char *fmt, const char *arg) {
     fprintf(stderr, fmt, arg);
     fprintf(stderr, "\n(run `sphsolid --help` for usage)\n");
     return SPH_ERR_INPUT;
+}
+
+/* sphsolid scene-keys [SECTION]: the schema's key tables (scene_schema.h). */
+static int cmd_scene_keys(int argc, char **argv) {
+    const char *sections[SK_COUNT];
+    const int n = sph_scene_key_sections(sections, SK_COUNT);
+    if (argc > 1) return input_error("scene-keys takes one SECTION, got '%s' too", argv[1]);
+    if (argc == 1) {
+        if (sph_scene_keys_markdown(stdout, argv[0])) return 0;
+        fprintf(stderr, "sphsolid: scene-keys: no section '%s'; the sections:", argv[0]);
+        for (int i = 0; i < n; i++) fprintf(stderr, " \"%s\"", sections[i]);
+        fprintf(stderr, "\n");
+        return SPH_ERR_INPUT;
+    }
+    for (int i = 0; i < n; i++) {
+        printf("%s### %s\n\n", i ? "\n" : "", sections[i][0] ? sections[i] : "(top level)");
+        sph_scene_keys_markdown(stdout, sections[i]);
+    }
+    return 0;
 }
 
 /* Default output directory: runs/<name of the scene's directory or stem>. */
@@ -410,5 +435,6 @@ int main(int argc, char **argv) {
     if (strcmp(argv[1], "compare") == 0) return sph_compare_main(argc - 2, argv + 2);
     if (strcmp(argv[1], "kernel-study") == 0) return sph_kernel_study_main(argc - 2, argv + 2);
     if (strcmp(argv[1], "bandwidth") == 0) return sph_bandwidth_main(argc - 2, argv + 2);
+    if (strcmp(argv[1], "scene-keys") == 0) return cmd_scene_keys(argc - 2, argv + 2);
     return input_error("unknown command '%s'", argv[1]);
 }

@@ -132,7 +132,7 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     prm->xi_e = scene->xi_e;
     prm->xi_g = scene->xi_g;
     prm->riemann_limit = scene->riemann_limiter_slope;
-    /* the viscous term's eps = 0.01 h (004 eq. 13; host/setup/scene.h) */
+    /* the viscous term's eps = 0.01 h (004 eq. 13; host/setup/scene/scene.h) */
     const double visc_eps = 0.01 * h;
     prm->viscous_eps_linear = scene->viscous_regularization == SPH_VISCOUS_LINEAR ? visc_eps : 0;
     prm->viscous_eps_squared =
