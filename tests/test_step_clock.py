@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""test_step_clock.py — the acoustic step clock on the OpenCL device.
+"""test_step_clock.py [opencl|cpu] — the acoustic step clock on the device, and on the
+native backend's thread team.
 
-With `--step-clock device` (the default where the device has double
+OpenCL: with `--step-clock device` (the default where the device has double
 precision) the substeps plan their own size on the device
 (device/sph_step_clock.h, substep_finalize in device/reduction.cl) and the
 host enqueues an advection step's substeps without reading max |v| after
@@ -20,6 +21,14 @@ device halts the clock there), and the same blow-up with monitor.action =
 "report", which goes on past the warning to the end time.  And the point of
 it: with --profile, the host waits once per advection step instead of once
 per substep.
+
+The native backend (argument `cpu`): by default an advection step's substeps run in one
+parallel region, thread 0 advancing the clock between them and the team synchronising on
+its own spinning barrier (host/backend/cpu/cpu_team.h); `--step-clock host` forks the team
+once per substep and advances the clock on the host.  The same runs must match bit for bit,
+and so must runs on one thread and on two, with OMP_WAIT_POLICY passive or active (the team
+size and the barrier change no sum).  With --profile, the "acoustic substep" phase is then
+one call per advection step against one per substep.
 """
 import json
 import os
@@ -32,13 +41,21 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sphtest import BIN, PLATE, SRC, check, finish, run_sphsolid  # noqa: E402
 
 RINGS = os.path.join(SRC, "cases", "colliding_rings_2d", "scene.cfg")
+BACKEND = sys.argv[1] if len(sys.argv) > 1 else "opencl"
+NATIVE = BACKEND == "cpu"
 tmp = tempfile.mkdtemp(prefix="sphsolid-clock-")
 
 
-def run(name, scene, mode, sets, options=()):
+def run(name, scene, mode, sets, options=(), env=None):
     out = os.path.join(tmp, f"{name}-{mode}")
-    code, err = run_sphsolid(scene, "opencl", out, sets,
-                             options=["--step-clock", mode] + list(options))
+    saved = dict(os.environ)
+    os.environ.update(env or {})
+    try:
+        code, err = run_sphsolid(scene, BACKEND, out, sets,
+                                 options=["--step-clock", mode] + list(options))
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
     return out, code, err
 
 
@@ -60,9 +77,10 @@ def same_run(name, scene, sets, options=(), expect_code=0):
     except OSError as e:
         check(False, f"{name}: summary.json: {e}")
         return None
-    check("-DSPH_STEP_CLOCK=0" in host["build_options"] and
-          "-DSPH_STEP_CLOCK=1" in dev["build_options"],
-          f"{name}: the programs say which clock they were built for: "
+    marks = ("step_clock=host", "step_clock=team") if NATIVE else \
+        ("-DSPH_STEP_CLOCK=0", "-DSPH_STEP_CLOCK=1")
+    check(marks[0] in host["build_options"] and marks[1] in dev["build_options"],
+          f"{name}: the runs say which clock they used: "
           f"{host['build_options']} / {dev['build_options']}")
     for key in ("acoustic_steps", "advection_steps", "simulated_time", "status"):
         check(host[key] == dev[key], f"{name}: {key} {host[key]} (host) against {dev[key]} (device)")
@@ -105,13 +123,37 @@ try:
         check(ins.get("stopped") is False and ins.get("time", 1) < 0.01,
               f"blowup-report: reported and gone on: {ins}")
 
+    # the native team: one thread and two, passive and active waits, the same bits
+    if NATIVE:
+        outs = []
+        for env in ({"OMP_NUM_THREADS": "1", "OMP_WAIT_POLICY": "passive"},
+                    {"OMP_NUM_THREADS": "2", "OMP_WAIT_POLICY": "passive"},
+                    {"OMP_NUM_THREADS": "2", "OMP_WAIT_POLICY": "active"}):
+            tag = f"threads{env['OMP_NUM_THREADS']}-{env['OMP_WAIT_POLICY']}"
+            out, code, err = run(tag, PLATE, "auto",
+                                 ["resolution.ratio=10", "time.end=0.01",
+                                  "method.formulation=gnog-a", "method.rotation=per-particle"],
+                                 env=env)
+            check(code == 0, f"{tag}: exit {code} ({err})")
+            threads = summary(out)["device"] if code == 0 else ""
+            check(f"{env['OMP_NUM_THREADS']} OpenMP thread" in threads,
+                  f"{tag}: the plate's 1612 particles run on the threads given: {threads}")
+            outs.append(out)
+        for other in outs[1:]:
+            p = subprocess.run([BIN, "compare", outs[0], other, "--rtol", "0"],
+                               capture_output=True, text=True, timeout=300)
+            check(p.returncode == 0, f"{os.path.basename(other)} against one thread: "
+                  f"bit-identical:\n{p.stdout}{p.stderr}")
+
     # the host's waits inside the acoustic loop, counted by --profile: one
     # read of the clock per advection step with the device clock (measured on
     # this plate, H/dp = 10 to 0.05 s: 262 reads for 262 advection steps; a
     # mispredicted step length costs one more), one read of max |v| per
     # substep with the host clock (2852)
     reads = {}
-    for mode, phase in (("device", "step clock read"), ("host", "max speed read")):
+    phases = (("device", "acoustic substep"), ("host", "acoustic substep")) if NATIVE else \
+        (("device", "step clock read"), ("host", "max speed read"))
+    for mode, phase in phases:
         out, code, err = run("profile", PLATE, mode, ["time.end=0.05"], options=["--profile"])
         check(code == 0, f"profile ({mode} clock): exit {code} ({err})")
         if code == 0:

@@ -533,8 +533,8 @@ def main():
 
     env = full_environment()
     if env["omp_wait_policy"].lower() == "passive":
-        print("bench: OMP_WAIT_POLICY=passive: the native backend runs scenes below 4096 "
-              "particles on one thread", file=sys.stderr)
+        print("bench: OMP_WAIT_POLICY=passive: the native backend's team sleeps between its "
+              "rebuild loops (docs/backends.md)", file=sys.stderr)
     sigs = kernel_signatures()
     peak = {b: peak_bandwidth(b, args.device, args.bandwidth_mb) for b in args.backends}
     for b, p in peak.items():

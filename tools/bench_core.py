@@ -17,6 +17,11 @@
            H/dp = 10, 20, 30 on the native backend and on OpenCL (pocl without a GPU),
            dual- against single-criterion stepping (000 Table 2), and the speed-up
            over the public reference code (18.9 s for H/dp = 10 on a 2-core machine).
+  threads  the native backend's thread team on the plate (SPH-GNOG-A, per-particle R) at
+           several sizes (--resolutions, default H/dp = 3 4 5 6 8 10, to --end, default
+           0.3 s) under OMP_WAIT_POLICY passive and active: one thread (OMP_NUM_THREADS=1)
+           against the backend's own choice, best of --repeats alternated runs.  Target:
+           the choice never slower than one thread beyond the spread, whatever the policy.
 
 Writes JSON (--json) and prints Markdown tables.  Runs are sequential; each uses the
 whole machine.  Usage:
@@ -282,9 +287,54 @@ def precision(args, tmp):
             "markdown": "\n".join(table)}
 
 
+def threads(args, tmp):
+    rows = []
+    for ratio in args.resolutions:
+        for policy in ("passive", "active"):
+            best = {}
+            for rep in range(args.repeats):
+                for mode in ("1", "auto"):
+                    env = dict(os.environ, OMP_WAIT_POLICY=policy)
+                    env.pop("OMP_NUM_THREADS", None)
+                    if mode == "1":
+                        env["OMP_NUM_THREADS"] = "1"
+                    out = os.path.join(tmp, f"t-{ratio}-{policy}-{mode}")
+                    cmd = [BIN, "run", PLATE, "--quiet", "--backend", "cpu", "--out", out,
+                           "--no-work-limit", "--set", f"resolution.ratio={ratio}",
+                           "--set", f"time.end={args.end}", "--set", "method.formulation=gnog-a",
+                           "--set", "method.rotation=per-particle",
+                           "--set", "output.snapshot_interval=0"]
+                    p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+                    if p.returncode != 0:
+                        sys.exit(f"bench: {' '.join(cmd)} failed ({p.returncode}): {p.stderr}")
+                    with open(os.path.join(out, "summary.json")) as f:
+                        s = json.load(f)
+                    wall = s["wall_time_s"]
+                    if mode not in best or wall < best[mode]["wall"]:
+                        best[mode] = {"wall": wall, "device": s["device"],
+                                      "particles": s["particle_count"]}
+            row = {"ratio": ratio, "policy": policy, "particles": best["1"]["particles"],
+                   "one_thread_s": best["1"]["wall"], "chosen_s": best["auto"]["wall"],
+                   "chosen_device": best["auto"]["device"]}
+            rows.append(row)
+            print(f"H/dp={ratio:<3} {row['particles']:6d} particles {policy:8s} one thread "
+                  f"{row['one_thread_s']:.3f} s, chosen {row['chosen_s']:.3f} s "
+                  f"({row['chosen_device']})", flush=True)
+    table = ["| H/dp | particles | OMP_WAIT_POLICY | one thread (s) | the backend's choice (s) "
+             "| threads chosen | speed-up |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        chosen = r["chosen_device"].split(",")[-1].strip()
+        table.append(f"| {r['ratio']:g} | {r['particles']} | {r['policy']} | "
+                     f"{r['one_thread_s']:.3f} | {r['chosen_s']:.3f} | {chosen} | "
+                     f"{r['one_thread_s'] / r['chosen_s']:.2f} |")
+    print("\n" + "\n".join(table))
+    return {"end_time": args.end, "repeats": args.repeats, "rows": rows,
+            "markdown": "\n".join(table)}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("what", choices=["periods", "tlsph", "timing", "precision"])
+    ap.add_argument("what", choices=["periods", "tlsph", "timing", "precision", "threads"])
     ap.add_argument("--json", required=True, help="output JSON file")
     ap.add_argument("--backend", default="cpu", help="periods: backend (default cpu)")
     ap.add_argument("--ratio", type=float, default=30, help="periods: H/dp (default 30)")
@@ -292,7 +342,9 @@ def main():
                     help="end time (periods: 0.32 s, timing: 1 s)")
     ap.add_argument("--formulations", nargs="+", default=list(PAPER_PERIODS),
                     choices=list(PAPER_PERIODS), help="periods: formulations (default: all)")
-    ap.add_argument("--resolutions", type=int, nargs="+", default=[10, 20, 30])
+    ap.add_argument("--resolutions", type=int, nargs="+", default=None,
+                    help="timing: H/dp (default 10 20 30); threads: 3 4 5 6 8 10")
+    ap.add_argument("--repeats", type=int, default=3, help="threads: runs of each (best kept)")
     ap.add_argument("--backends", nargs="+", default=["cpu", "opencl"])
     ap.add_argument("--precisions", nargs="+", default=PRECISIONS, choices=PRECISIONS,
                     help="precision: the modes")
@@ -300,10 +352,12 @@ def main():
                     help="timing: backends that also run single-criterion stepping")
     args = ap.parse_args()
     if args.end is None:
-        args.end = 0.32 if args.what in ("periods", "precision") else 1.0
+        args.end = {"periods": 0.32, "precision": 0.32, "threads": 0.3}.get(args.what, 1.0)
+    if args.resolutions is None:
+        args.resolutions = [3, 4, 5, 6, 8, 10] if args.what == "threads" else [10, 20, 30]
     with tempfile.TemporaryDirectory(prefix="sphsolid-bench-") as tmp:
         body = {"periods": periods, "tlsph": tlsph, "timing": timing,
-                "precision": precision}[args.what](args, tmp)
+                "precision": precision, "threads": threads}[args.what](args, tmp)
     result = {"benchmark": args.what, "environment": environment(), **body}
     os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     with open(args.json + ".partial", "w") as f:

@@ -35,11 +35,14 @@ typedef enum {
     SPH_PAIR_GEOMETRY_RECOMPUTED
 } sph_pair_geometry;
 
-/* Who advances the acoustic step clock (device/sph_step_clock.h) on OpenCL:
+/* Who advances the acoustic step clock (device/sph_step_clock.h).  OpenCL:
  * AUTO and DEVICE the device, where it has double precision, so that an
  * advection step's substeps are enqueued without a host read after each;
- * HOST reads max |v|^2 after every substep (the native backend's way, and
- * the fallback for devices without cl_khr_fp64).  Both give the same steps. */
+ * HOST reads max |v|^2 after every substep (the fallback for devices without
+ * cl_khr_fp64).  The native backend: AUTO and DEVICE run an advection step's
+ * substeps in one parallel region, its thread 0 advancing the clock
+ * (cpu_kernels.advance); HOST one region and one host clock advance per
+ * substep.  All give the same steps. */
 typedef enum {
     SPH_STEP_CLOCK_AUTO,
     SPH_STEP_CLOCK_DEVICE,

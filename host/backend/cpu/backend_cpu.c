@@ -18,6 +18,7 @@
 
 typedef struct {
     const cpu_kernels *k;
+    bool host_clock; /* --step-clock host: one parallel region per substep */
     cpu_buffers b;
     void *spare[FIELD_COUNT]; /* second buffer of each field for the permutation */
     size_t real_size;
@@ -25,18 +26,19 @@ typedef struct {
     uint64_t *keys_sorted;
 } cpu_impl;
 
-/* Run the loops on the OpenMP team?  With OMP_WAIT_POLICY=passive every
- * barrier puts the threads to sleep, and waking a sleeping vCPU costs far
- * more than a small scene's substep: on the 2-core CI machine the 1612-particle
- * plate ran at 4.8 M particle-substeps/s on two passive threads against 6.1 on
- * one, while 5792 particles gained (7.4 against 6.3).  Spinning policies
- * (the default, or active) gain from ~1000 particles up (9.4 against 6.1). */
+/* Run the loops on the OpenMP team?  The team synchronises on its own
+ * spinning barrier (cpu_team.h) and runs an advection step's substeps in one
+ * parallel region, so OMP_WAIT_POLICY no longer decides the gain; what
+ * remains of the policy is the wake of the team at each rebuild's parallel
+ * loops.  The 2D plate, SPH-GNOG-A, to t = 0.3 s on the 2-core CI machine
+ * kind (2026-11-27; best of 2-3, one thread against two): 233 particles
+ * 0.28 s against 0.36 (passive) and 0.18 (active); 352: 0.56 against 0.59
+ * and 0.34; 497: 1.02 against 0.89 and 0.57; 668: 1.64 against 1.27 and
+ * 0.93; 1088: 3.65 against 2.46 and 1.99.  So two threads from 400
+ * particles up, whatever the policy. */
+#define CPU_TEAM_MIN_PARTICLES 400
 static bool use_threads(int n) {
-    if (omp_get_max_threads() < 2) return false;
-    const char *policy = getenv("OMP_WAIT_POLICY");
-    const bool passive =
-        policy && (strcmp(policy, "passive") == 0 || strcmp(policy, "PASSIVE") == 0);
-    return n >= (passive ? 4096 : 1024);
+    return omp_get_max_threads() >= 2 && n >= CPU_TEAM_MIN_PARTICLES;
 }
 
 static size_t field_esize(const sph_backend *be, sph_field f) {
@@ -535,6 +537,15 @@ static sph_status cpu_substep(sph_backend *be, double dt, double *max_speed2, sp
     return SPH_OK;
 }
 
+static sph_status cpu_advance(sph_backend *be, double *clock, long limit, sph_error *err) {
+    cpu_impl *c = be->impl;
+    if (c->host_clock) return sph_backend_advance_by_substeps(be, clock, limit, err);
+    const double t0 = phase_start(be);
+    c->k->advance(&c->b, clock, limit);
+    phase_end(be, "acoustic substep", t0);
+    return SPH_OK;
+}
+
 static sph_status cpu_diagnostics(sph_backend *be, sph_diagnostics *out, sph_error *err) {
     (void)err;
     cpu_impl *c = be->impl;
@@ -645,6 +656,7 @@ static const sph_backend_ops cpu_ops = {
     .upload = cpu_upload,
     .rebuild = cpu_rebuild,
     .substep = cpu_substep,
+    .advance = cpu_advance,
     .diagnostics = cpu_diagnostics,
     .monitor = cpu_monitor,
     .download = cpu_download,
@@ -679,6 +691,7 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     be->n = n;
     sph_fields_layout(f, be->fields);
     c->k = kernels;
+    c->host_clock = req->step_clock == SPH_STEP_CLOCK_HOST;
     c->real_size = f->double_precision ? sizeof(double) : sizeof(float);
     c->b.n = n;
     c->b.parallel = use_threads(n);
@@ -686,10 +699,10 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
              c->b.parallel ? omp_get_max_threads() : 1, c->b.parallel ? "s" : "");
     snprintf(be->build_options, sizeof be->build_options,
              "native: dim=%d precision=%s formulation=%s (compiled in) rotation=%s clamp=%d "
-             "bodies=%d%s",
+             "bodies=%d%s step_clock=%s",
              f->dim, sph_precision_name(f), sph_formulation_name(f->formulation),
              sph_rotation_name(f->rotation), f->has_clamp ? 1 : 0, f->nbodies,
-             f->torque_projection ? " torque_projection=1" : "");
+             f->torque_projection ? " torque_projection=1" : "", c->host_clock ? "host" : "team");
 
     /* before allocating: what the run needs must fit in the memory */
     const int cap0 = sph_initial_neighbour_capacity(f->dim, prm->cutoff / prm->dp);

@@ -8,6 +8,7 @@
 
 #include "fields.h"
 #include "grid.h"
+#include "cpu_team.h"
 #include "physics.h"
 
 #include <stdbool.h>
@@ -45,7 +46,8 @@ typedef struct {
     void *partials;     /* real[ngroups * ncomp] */
     void *substep_sums; /* real[1 + SPH_MAX_BODIES * 9] */
     int ngroups;
-    bool parallel; /* run the loops on the OpenMP team (else on the calling thread) */
+    bool parallel;         /* run the loops on the OpenMP team (else on the calling thread) */
+    cpu_team_barrier team; /* the substeps' barrier (cpu_team.h) */
 } cpu_buffers;
 
 typedef struct {
@@ -65,6 +67,9 @@ typedef struct {
     /* the pair geometry at x + geometry_shift v (neighbour_build.cl) */
     int (*build_neighbours)(cpu_buffers *b, const sph_grid *g, double geometry_shift);
     void (*substep)(cpu_buffers *b, double dt, double *max_speed2);
+    /* substeps under the step clock (device/sph_step_clock.h) until it
+     * halts or clock[CLOCK_COUNT] reaches limit, in one parallel region */
+    void (*advance)(cpu_buffers *b, double *clock, long limit);
     /* fluids, once after the rebuild (eulerian_step.cl): the initial EOS
      * state and the corrected pair gradients; NULL for solids */
     void (*fluid_setup)(cpu_buffers *b);

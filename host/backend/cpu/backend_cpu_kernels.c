@@ -8,6 +8,10 @@
  */
 #include "backend_cpu.h"
 
+#include "sph_step_clock.h"
+
+#include <omp.h>
+
 #include "neighbour_build.cl"
 #include "acoustic_step.cl"
 #include "tl_step.cl"
@@ -86,28 +90,30 @@ static int build_neighbours_impl(cpu_buffers *b, const sph_grid *g, double geome
     return overflow;
 }
 
-/* One TLSPH substep (tl_step.cl) in one parallel region: the deformation
- * pass, the acceleration pass, then the update over fixed blocks of SPH_WG
- * particles, each block reducing max |v|^2 into its partial row (the same
- * grouping as substep_reduce on the device). */
-static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
-    const real dt = (real)dt_in;
+/* A team of the calling parallel region (cpu_team.h). */
+#define TEAM_ENTER(b) cpu_team_enter(&(b)->team, omp_get_num_threads())
+
+/* One TLSPH substep (tl_step.cl) as orphaned loops of the caller's parallel
+ * region, team t: the deformation pass, the acceleration pass, then the
+ * update over fixed blocks of SPH_WG particles, each block reducing max
+ * |v|^2 into its partial row (the same grouping as substep_reduce on the
+ * device). */
+static void tl_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
     const int n = b->n, cap = b->cap;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
-    real *sums = (real *)b->substep_sums;
     real *partials = (real *)b->partials;
     const int ncomp = substep_ncomp(prm);
     const int ngroups = (n + SPH_WG - 1) / SPH_WG;
-#pragma omp parallel if (b->parallel)
     {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
         for (int i = 0; i < n; ++i)
             tl_deformation(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                            (const real *)b->pair_dwv, F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                            F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD), F_REAL(b, FIELD_PK1),
                            F_HREAL(b, FIELD_RHO), F_HREAL(b, FIELD_TAU),
                            F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PLASTIC_CINV));
-#pragma omp for schedule(static)
+        cpu_team_sync(t);
+#pragma omp for schedule(static) nowait
         for (int i = 0; i < n; ++i)
             tl_acceleration(i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
                             (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
@@ -115,7 +121,8 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                             F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_BMAT), F_REAL(b, FIELD_DEFGRAD),
                             F_REAL(b, FIELD_PK1), F_HREAL(b, FIELD_ACC_SHEAR),
                             (const real *)b->pair_w, F_REAL(b, FIELD_PLASTIC_STRAIN));
-#pragma omp for schedule(static)
+        cpu_team_sync(t);
+#pragma omp for schedule(static) nowait
         for (int g = 0; g < ngroups; ++g)
             REDUCE_BLOCK(
                 g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
@@ -125,9 +132,8 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                                  F_U8(b, FIELD_BODY), F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_MASS),
                                  F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_DACC_SHEAR),
                                  F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_PRESSURE), c)));
+        cpu_team_sync(t);
     }
-    combine_rows(ngroups, 1, ncomp, partials, sums);
-    *max_speed2 = (double)sums[0];
 }
 
 #if SPH_HAS_EULERIAN
@@ -146,16 +152,17 @@ static void tl_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
 #    define KIND_FIELD_ARGS , F_U8(b, FIELD_KIND), F_REAL(b, FIELD_NORMAL)
 
 /* The far field's pass (eulerian_step.cl), as an orphaned loop of the
- * caller's parallel region; nothing without far-field particles. */
-static void far_field_pass(cpu_buffers *b) {
+ * caller's parallel region, team t; nothing without far-field particles. */
+static void far_field_pass(cpu_buffers *b, cpu_team *t) {
     if (!b->field[FIELD_KIND] || ((const sph_params *)b->prm)->far_field_density <= 0) return;
     const int n = b->n;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
-#    pragma omp for schedule(static)
+#    pragma omp for schedule(static) nowait
     for (int i = 0; i < n; ++i)
         eulerian_far_field(i, n, prm, FLUID_ROWS(b), F_HREAL(b, FIELD_POS), F_HREAL(b, FIELD_RHO),
                            F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
                            F_REAL(b, FIELD_PRESSURE) KIND_FIELD_ARGS);
+    cpu_team_sync(t);
 }
 
 /* Once after the rebuild of a fluid run (eulerian_step.cl): the pressure
@@ -166,6 +173,7 @@ static void fluid_setup_impl(cpu_buffers *b) {
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
 #    pragma omp parallel if (b->parallel)
     {
+        cpu_team t = TEAM_ENTER(b);
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             eulerian_prepare(i, n, prm, F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
@@ -175,13 +183,13 @@ static void fluid_setup_impl(cpu_buffers *b) {
         for (int i = 0; i < n; ++i)
             eulerian_correct_pairs(i, n, prm, FLUID_ROWS(b), F_REAL(b, FIELD_BMAT),
                                    (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r);
-        far_field_pass(b);
+        far_field_pass(b, &t);
     }
 }
 
 /* The pairs summed once of a two-stage pass (eulerian_step.cl), ROW(i,
  * k_begin, k_end, walls_end) per row as orphaned loops of the caller's
- * parallel region: the even blocks of pair_block particles, then the odd
+ * parallel region, team T: the even blocks of pair_block particles, then the odd
  * ones (a block writes to itself and the next one only), each row with its
  * wall pairs, then the far pairs on one thread.  The blocks go to the
  * threads as they free up (schedule dynamic): one thread sums a block's
@@ -189,13 +197,14 @@ static void fluid_setup_impl(cpu_buffers *b) {
 #    define ONCE_ROWS(b) (b)->once_start, (b)->once_j
 #    define ONCE_GEOMETRY(b)                                                                       \
         (const real *)(b)->once_e, (const real *)(b)->once_dwv, (const real *)(b)->once_inv_r
-#    define PAIRS_ONCE(b, ROW)                                                                     \
+#    define PAIRS_ONCE(b, T, ROW)                                                                  \
         do {                                                                                       \
             const int block_ = (b)->pair_block, nblocks_ = (n + block_ - 1) / block_;              \
             for (int parity_ = 0; parity_ < 2; ++parity_) {                                        \
-                _Pragma("omp for schedule(dynamic, 1)") for (int q_ = 0;                           \
-                                                             q_ < (nblocks_ - parity_ + 1) / 2;    \
-                                                             ++q_) {                               \
+                _Pragma("omp for schedule(dynamic, 1) nowait") for (int q_ = 0;                    \
+                                                                    q_ <                           \
+                                                                    (nblocks_ - parity_ + 1) / 2;  \
+                                                                    ++q_) {                        \
                     const int first_ = (2 * q_ + parity_) * block_;                                \
                     const int last_ = first_ + block_ < n ? first_ + block_ : n;                   \
                     for (int i = first_; i < last_; ++i) {                                         \
@@ -204,33 +213,32 @@ static void fluid_setup_impl(cpu_buffers *b) {
                         ROW;                                                                       \
                     }                                                                              \
                 }                                                                                  \
+                cpu_team_sync(T);                                                                  \
             }                                                                                      \
-            _Pragma("omp single") for (int r_ = 0; r_ < (b)->nfar_rows; ++r_) {                    \
+            _Pragma("omp single nowait") for (int r_ = 0; r_ < (b)->nfar_rows; ++r_) {             \
                 const int i = (b)->far_rows[r_];                                                   \
                 const int k_begin = (b)->once_count[i] + (b)->once_walls[i];                       \
                 const int k_end = k_begin + (b)->once_far[i], walls_end = k_end;                   \
                 ROW;                                                                               \
             }                                                                                      \
+            cpu_team_sync(T);                                                                      \
         } while (0)
 
 /* One step of a fluid run (eulerian_step.cl) in one parallel region: the
  * momentum rate, the mass and energy rates, the update (or SSP-RK2's two
  * rate passes and stage updates), the far field, then the step clock's
  * signal speed over fixed blocks of SPH_WG particles. */
-static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
-    const real dt = (real)dt_in;
+static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
     const int n = b->n;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
-    real *sums = (real *)b->substep_sums;
     real *partials = (real *)b->partials;
     const int ngroups = (n + SPH_WG - 1) / SPH_WG;
-#    pragma omp parallel if (b->parallel)
     {
         if (b->field[FIELD_MOMENTUM_RATE]) {
             /* SSP-RK2 (time.integrator): the rates of U^n, stage 0, the
              * rates of U1, stage 1 */
             for (int stage = 0; stage < 2; ++stage) {
-#    pragma omp for schedule(static)
+#    pragma omp for schedule(static) nowait
                 for (int i = 0; i < n; ++i)
                     eulerian_rates(i, n, stage, prm, FLUID_ROWS(b), (const real *)b->pair_e,
                                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
@@ -240,7 +248,8 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
                                    F_REAL(b, FIELD_VORTICITY)
                                        ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS,
                                    F_REAL(b, FIELD_WALL_FORCE));
-#    pragma omp for schedule(static)
+                cpu_team_sync(t);
+#    pragma omp for schedule(static) nowait
                 for (int i = 0; i < n; ++i)
                     eulerian_rk_update(
                         i, n, stage, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
@@ -248,70 +257,65 @@ static void fluid_substep_impl(cpu_buffers *b, double dt_in, double *max_speed2)
                         F_REAL(b, FIELD_MASS_RATE), F_REAL(b, FIELD_MOMENTUM_RATE),
                         F_REAL(b, FIELD_STATE_SAVED) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
                         F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+                cpu_team_sync(t);
             }
         } else {
             /* the two stages, each fluid pair summed once (eulerian_step.cl) */
-            PAIRS_ONCE(b, eulerian_momentum_pairs(
-                              i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
-                              F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL),
-                              F_REAL(b, FIELD_PRESSURE),
-                              (real *)b->force_sum ENERGY_FIELD_ARG SOUND_FIELD_ARG,
-                              F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE)));
-#    pragma omp for schedule(static)
+            PAIRS_ONCE(b, t,
+                       eulerian_momentum_pairs(
+                           i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
+                           F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL),
+                           F_REAL(b, FIELD_PRESSURE),
+                           (real *)b->force_sum ENERGY_FIELD_ARG SOUND_FIELD_ARG,
+                           F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE)));
+#    pragma omp for schedule(static) nowait
             for (int i = 0; i < n; ++i)
                 eulerian_momentum_stage(i, n, dt, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
                                         F_REAL(b, FIELD_VEL_STAGE), (real *)b->force_sum,
                                         F_REAL(b, FIELD_MASS_RATE),
                                         F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS,
                                         F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
-            PAIRS_ONCE(b,
+            cpu_team_sync(t);
+            PAIRS_ONCE(b, t,
                        eulerian_mass_energy_pairs(
                            i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
                            F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL),
                            F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_MASS_RATE),
                            F_REAL(b, FIELD_VORTICITY)
                                ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS));
-#    pragma omp for schedule(static)
+#    pragma omp for schedule(static) nowait
             for (int i = 0; i < n; ++i)
                 eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VEL_STAGE),
                                 F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
                                 F_REAL(b, FIELD_PRESSURE),
                                 F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
                                 F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+            cpu_team_sync(t);
         }
-        far_field_pass(b);
-#    pragma omp for schedule(static)
+        far_field_pass(b, t);
+#    pragma omp for schedule(static) nowait
         for (int g = 0; g < ngroups; ++g)
             REDUCE_BLOCK(g, n, 1, 1, SUBSTEP_NCOMP_MAX, partials,
                          c[0] = eulerian_signal_speed2(prm, (real)F_HREAL(b, FIELD_RHO)[i],
                                                        F_REAL(b, FIELD_PRESSURE)[i],
                                                        vec_load(F_REAL(b, FIELD_VEL), n, i)));
+        cpu_team_sync(t);
     }
-    combine_rows(ngroups, 1, 1, partials, sums);
-    *max_speed2 = (double)sums[0];
 }
 #    define FLUID_SETUP fluid_setup_impl
 #else
 #    define FLUID_SETUP NULL
 #endif
 
-/* One substep in one parallel region: the pressure pass, the velocity-terms
+/* One substep of the updated-Lagrangian solids as orphaned loops of the
+ * caller's parallel region, team t: the pressure pass, the velocity-terms
  * pass, each in equal shares of the particles, then the reduction over fixed
  * blocks of SPH_WG particles of their contributions (|v|^2, Rodrigues
- * matrices) into the blocks' partial rows, combined in block order
- * afterwards.  (Running the velocity-terms pass by blocks of SPH_WG too gave
+ * matrices) into the blocks' partial rows (combined in block order by the
+ * caller).  (Running the velocity-terms pass by blocks of SPH_WG too gave
  * the 1612 particles of the H/dp = 10 plate as 4 blocks to one thread and 3
  * to the other.) */
-static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
-#if SPH_HAS_EULERIAN
-    fluid_substep_impl(b, dt_in, max_speed2);
-    return;
-#endif
-    if (RUNTIME_FORMULATION == FORMULATION_TLSPH) { /* a constant of this instance */
-        tl_substep_impl(b, dt_in, max_speed2);
-        return;
-    }
-    const real dt = (real)dt_in;
+static void solid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
     const int n = b->n, cap = b->cap;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
     real *sums = (real *)b->substep_sums;
@@ -320,17 +324,17 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
     const int ngroups = (n + SPH_WG - 1) / SPH_WG;
     const bool stress_div = FORM_HAS_STRESS_DIV(RUNTIME_FORMULATION);
     const int *contact_count = F_INT(b, FIELD_CONTACT_COUNT);
-#pragma omp parallel if (b->parallel)
     {
         /* bodies that do not merge: the contact force first (sph_contact.h) */
         if (contact_count) {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
             for (int i = 0; i < n; ++i)
                 acoustic_contact(i, n, cap, dt, prm, b->nbr_j, contact_count, F_HREAL(b, FIELD_POS),
                                  F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
                                  F_REAL(b, FIELD_ACC_DISS), F_U8(b, FIELD_MATERIAL));
+            cpu_team_sync(t);
         }
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
         for (int i = 0; i < n; ++i)
             acoustic_pressure(
                 i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
@@ -339,8 +343,9 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                 F_HREAL(b, FIELD_ACC_SHEAR), F_HREAL(b, FIELD_POS), F_REAL(b, FIELD_VEL),
                 F_REAL(b, FIELD_DACC_SHEAR), sums, F_U8(b, FIELD_BODY), F_U8(b, FIELD_FIXED),
                 F_REAL(b, FIELD_ACC_STRESS), F_U8(b, FIELD_MATERIAL));
+        cpu_team_sync(t);
 
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
         for (int i = 0; i < n; ++i)
             acoustic_velocity_terms(
                 i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
@@ -351,7 +356,8 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                 F_REAL(b, FIELD_SPIN), F_REAL(b, FIELD_GRADV), F_REAL(b, FIELD_ART_STRESS),
                 F_REAL(b, FIELD_PLASTIC_STRAIN), F_REAL(b, FIELD_PENALTY_SCALE),
                 F_HREAL(b, FIELD_POS), F_U8(b, FIELD_MATERIAL));
-#pragma omp for schedule(static)
+        cpu_team_sync(t);
+#pragma omp for schedule(static) nowait
         for (int g = 0; g < ngroups; ++g)
             REDUCE_BLOCK(g, n, 1, ncomp, SUBSTEP_NCOMP_MAX, partials,
                          substep_contrib(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_SPIN),
@@ -359,10 +365,11 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                                          F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_ACC_SHEAR),
                                          F_REAL(b, FIELD_DACC_SHEAR), F_HREAL(b, FIELD_RHO),
                                          F_REAL(b, FIELD_PRESSURE), c));
+        cpu_team_sync(t);
         /* third pass of the stress-divergence formulations: reads the tau
          * and L of the neighbours written above */
         if (stress_div) {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
             for (int i = 0; i < n; ++i)
                 acoustic_shear_force(
                     i, n, cap, dt, prm, b->nbr_count, b->nbr_j, (const real *)b->pair_e,
@@ -372,10 +379,59 @@ static void substep_impl(cpu_buffers *b, double dt_in, double *max_speed2) {
                     F_HREAL(b, FIELD_ACC_SHEAR), F_REAL(b, FIELD_ART_STRESS),
                     F_REAL(b, FIELD_PENALTY_SCALE), F_REAL(b, FIELD_DACC_SHEAR),
                     F_U8(b, FIELD_MATERIAL));
+            cpu_team_sync(t);
         }
     }
-    combine_rows(ngroups, 1, ncomp, partials, sums);
-    *max_speed2 = (double)sums[0];
+}
+
+/* One substep of this instance's formulation in the caller's parallel
+ * region: its passes, ending in a sync of the team. */
+static void substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
+#if SPH_HAS_EULERIAN
+    fluid_substep_passes(b, dt, t);
+    return;
+#endif
+    if (RUNTIME_FORMULATION == FORMULATION_TLSPH) /* a constant of this instance */
+        tl_substep_passes(b, dt, t);
+    else
+        solid_substep_passes(b, dt, t);
+}
+
+/* max |v|^2 (or the fluids' signal speed squared) of the substep just
+ * taken: the blocks' partial rows combined in block order. */
+static double substep_max_speed2(cpu_buffers *b) {
+    CONSTANT sph_params *prm = (const sph_params *)b->prm;
+    const int ngroups = (b->n + SPH_WG - 1) / SPH_WG;
+    real *sums = (real *)b->substep_sums;
+    combine_rows(ngroups, 1, SPH_HAS_EULERIAN ? 1 : substep_ncomp(prm), (real *)b->partials, sums);
+    return (double)sums[0];
+}
+
+static void substep_impl(cpu_buffers *b, double dt, double *max_speed2) {
+#pragma omp parallel if (b->parallel)
+    {
+        cpu_team t = TEAM_ENTER(b);
+        substep_passes(b, (real)dt, &t);
+    }
+    *max_speed2 = substep_max_speed2(b);
+}
+
+/* The substeps of an advection step (sph_backend_advance) in one parallel
+ * region: after each, thread 0 combines the reduction rows and advances the
+ * step clock (device/sph_step_clock.h, as the host would), then the team
+ * reads the clock together.  The same substeps, the same bits, as one
+ * substep_impl call and one host clock advance at a time, without a fork
+ * and join of the team per substep. */
+static void advance_impl(cpu_buffers *b, double *clock, long limit) {
+#pragma omp parallel if (b->parallel)
+    {
+        cpu_team t = TEAM_ENTER(b);
+        while (clock[CLOCK_HALTED] == CLOCK_RUNNING && clock[CLOCK_COUNT] < (double)limit) {
+            substep_passes(b, (real)clock[CLOCK_DT], &t);
+            if (omp_get_thread_num() == 0) step_clock_finish(clock, substep_max_speed2(b));
+            cpu_team_sync(&t);
+        }
+    }
 }
 
 static void diagnostics_impl(cpu_buffers *b, double *out) {
@@ -587,6 +643,7 @@ const cpu_kernels CPU_VARIANT = {
     .sort_by_cell = sort_by_cell_impl,
     .build_neighbours = build_neighbours_impl,
     .substep = substep_impl,
+    .advance = advance_impl,
     .fluid_setup = FLUID_SETUP,
     .diagnostics = diagnostics_impl,
     .monitor = monitor_impl,
