@@ -439,12 +439,21 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
     double next_checkpoint = next_checkpoint_after(t, a->checkpoint_every);
     /* without progress lines an advection step's substeps are one call */
     long chunk = progress.enabled ? SUBSTEP_CHUNK_FIRST : LONG_MAX;
+    /* TLSPH and the fluids have no rebuild to end an advection step: their
+     * substeps run on to the next output or checkpoint time in one call, the
+     * backend advancing the clock (no host wait per substep), and each counts
+     * as an advection step of its own, as before.  With wall-time
+     * checkpoints, which are checked between outer steps, one substep per
+     * outer step as before. */
+    const bool long_steps = total_lagrangian && !(a->checkpoint_wall > 0);
     double last_checkpoint_wall = t0;
     bool stop = false;
     while (!st && !stop && t < sc->end_time) {
         /* one advection step */
         double t_adv_end = INFINITY;
-        if (dual) {
+        if (long_steps) {
+            t_adv_end = next_checkpoint; /* INFINITY without checkpoints */
+        } else if (dual) {
             const double accel_term = sc->acceleration_criterion ? info.max_accel_term : 0.0;
             const double speed = fmax(fmax(sqrt(info.max_speed2), sqrt(accel_term)), u_ref);
             if (speed > 0.0) t_adv_end = t + sc->cfl_advection * h / speed;
@@ -458,9 +467,10 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         clock[CLOCK_NEXT_OUTPUT] = next_output;
         clock[CLOCK_CFL_H] = sc->cfl_acoustic * h;
         clock[CLOCK_C0] = c_clock;
-        clock[CLOCK_ONE_SUBSTEP] = !dual || total_lagrangian;
+        clock[CLOCK_ONE_SUBSTEP] = long_steps ? 0.0 : !dual || total_lagrangian;
         step_clock_plan(clock);
         bool at_output = false;
+        long substeps = 0; /* of this outer step */
         for (;;) {
             clock[CLOCK_SPEED_LIMIT] =
                 sc->monitor_action != SPH_MONITOR_OFF && isnan(stats->instability_time)
@@ -478,6 +488,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             max_speed2 = clock[CLOCK_MAX_SPEED2];
             at_output = clock[CLOCK_ON_OUTPUT] != 0.0;
             stats->acoustic_steps += (long)clock[CLOCK_COUNT];
+            substeps += (long)clock[CLOCK_COUNT];
             /* checked at every substep, from its own reduction: a blow-up
              * shrinks the acoustic step with the growing speed, so it might
              * never reach the next output time and the monitor there */
@@ -499,7 +510,8 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                     sph_error serr;
                     const sph_status sst =
                         sph_snapshots_write(a->snapshots, be, t, stats->acoustic_steps,
-                                            stats->advection_steps + 1, &serr);
+                                            stats->advection_steps + (long_steps ? substeps : 1),
+                                            &serr);
                     if (sst) {
                         st = sst;
                         *err = serr;
@@ -527,7 +539,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             step_clock_plan(clock);
         }
         if (st) break;
-        stats->advection_steps++;
+        stats->advection_steps += long_steps ? substeps : 1;
         if (at_output) {
             st = sample(a, &s, t, ts, &ms, err);
             if (!st) st = check_stability(a, ts, &ms, t, domain, stats, err);
