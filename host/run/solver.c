@@ -508,10 +508,9 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
                 /* stop here, with a snapshot of the state that went wrong */
                 if (st == SPH_UNSTABLE && a->snapshots && sc->snapshot_every > 0) {
                     sph_error serr;
-                    const sph_status sst =
-                        sph_snapshots_write(a->snapshots, be, t, stats->acoustic_steps,
-                                            stats->advection_steps + (long_steps ? substeps : 1),
-                                            &serr);
+                    const sph_status sst = sph_snapshots_write(
+                        a->snapshots, be, t, stats->acoustic_steps,
+                        stats->advection_steps + (long_steps ? substeps : 1), &serr);
                     if (sst) {
                         st = sst;
                         *err = serr;
