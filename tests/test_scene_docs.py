@@ -6,8 +6,8 @@ section, type, default, range or words and meaning; the loader reads keys throug
 `sphsolid scene-keys` prints it.  This test checks that
 - the key tables of docs/scene-format.md are the schema's, section by section, and every
   section is shown (tools/scene_keys_doc.py --check);
-- every key name the loader looks up by hand (config_setting_get_member with a literal)
-  is a key of the schema: a key read past the schema would be undocumented;
+- every key name the loader looks up by hand (config_setting_get_member with a literal, or
+  a KEY_NAMES list for scene_first_member) is a key of the schema: a key read past the schema would be undocumented;
 - every key in the first column of the document's other tables (those outside the
   generated blocks, e.g. the fluid state by formulation) is a key of the schema or an
   output field;
@@ -43,6 +43,8 @@ loader = ""
 for path in sorted(glob.glob(os.path.join(SRC, "host", "setup", "scene", "*.c"))):
     loader += open(path).read()
 by_hand = set(re.findall(r'config_setting_get_member\(\w+, "([^"]+)"\)', loader))
+for names in re.findall(r"KEY_NAMES\(([^)]*)\)", loader):
+    by_hand.update(re.findall(r'"([^"]+)"', names))
 check(len(by_hand) > 20, f"{len(by_hand)} keys read by hand")
 unknown = sorted(by_hand - schema_keys)
 check(not unknown, f"keys the loader reads that the schema does not state: {unknown}")

@@ -491,17 +491,16 @@ static sph_status parse_body(loader *L, const config_setting_t *b, int index) {
     memset(&body->velocity, 0, sizeof body->velocity);
     body->velocity.type = SPH_VELOCITY_ZERO;
     /* a wall is at rest, in the fluid's reference state */
-    static const char *const moving[] = {"initial_velocity", "initial_density", "initial_pressure",
-                                         "constraints"};
-    for (size_t k = 0; wall && k < sizeof moving / sizeof moving[0]; ++k) {
-        const config_setting_t *s = config_setting_get_member(b, moving[k]);
-        if (s)
-            return scene_fail_at(L, s, NULL,
-                                 "body '%s' is a wall (role = \"wall\"): a wall is at rest in the "
-                                 "fluid's reference state (the material's density), so it takes no "
-                                 "initial state or constraints",
-                                 name);
-    }
+    const config_setting_t *moving =
+        wall ? scene_first_member(b, KEY_NAMES("initial_velocity", "initial_density",
+                                               "initial_pressure", "constraints"))
+             : NULL;
+    if (moving)
+        return scene_fail_at(L, moving, NULL,
+                             "body '%s' is a wall (role = \"wall\"): a wall is at rest in the "
+                             "fluid's reference state (the material's density), so it takes no "
+                             "initial state or constraints",
+                             name);
     if ((st = scene_group(L, b, SK_BODY_INITIAL_VELOCITY, &vel))) return st;
     if (vel && (st = parse_velocity(L, vel, &body->velocity))) return st;
 

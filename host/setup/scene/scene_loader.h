@@ -36,6 +36,8 @@ typedef struct {
 /* The schema sections whose keys a group may hold, in order:
  * SECTIONS("shapes", "shapes.box"). */
 #define SECTIONS(...) ((const char *const[]){__VA_ARGS__, NULL})
+/* Key names, for scene_first_member: KEY_NAMES("xi_e", "xi_g"). */
+#define KEY_NAMES(...) ((const char *const[]){__VA_ARGS__, NULL})
 
 extern const char *const SCENE_AXES[3];
 
@@ -57,6 +59,9 @@ sph_status scene_member(loader *L, const config_setting_t *g, sph_scene_key_id k
                         const config_setting_t **out);
 sph_status scene_require(loader *L, const config_setting_t *g, sph_scene_key_id k,
                          const config_setting_t **out);
+/* The first of the NULL-terminated `names` that g holds, else NULL: the key
+ * a refusal names when a group holds keys of another kind of scene. */
+const config_setting_t *scene_first_member(const config_setting_t *g, const char *const *names);
 sph_status scene_as_float(loader *L, const config_setting_t *s, double *out);
 sph_status scene_as_string(loader *L, const config_setting_t *s, const char **out);
 sph_status scene_as_vector(loader *L, const config_setting_t *s, int len, double out[3]);

@@ -14,16 +14,14 @@
 static sph_status parse_fluid_material(loader *L, const config_setting_t *m, sph_material *mat) {
     const sph_formulation f = L->scene->formulation;
     const char *fname = sph_formulation_name(f);
-    static const char *const solid_only[] = {"poisson_ratio", "yield_stress", "hardening_modulus",
-                                             "model", "exponential_b"};
-    for (size_t k = 0; k < sizeof solid_only / sizeof solid_only[0]; ++k) {
-        const config_setting_t *s = config_setting_get_member(m, solid_only[k]);
-        if (s)
-            return scene_fail_at(L, s, NULL,
-                                 "is for solid materials; material '%s' is a fluid (it has no "
-                                 "youngs_modulus), as formulation \"%s\" needs",
-                                 m->name, fname);
-    }
+    const config_setting_t *solid_key =
+        scene_first_member(m, KEY_NAMES("poisson_ratio", "yield_stress", "hardening_modulus",
+                                        "model", "exponential_b"));
+    if (solid_key)
+        return scene_fail_at(L, solid_key, NULL,
+                             "is for solid materials; material '%s' is a fluid (it has no "
+                             "youngs_modulus), as formulation \"%s\" needs",
+                             m->name, fname);
     sph_status st;
     if ((st = scene_number(L, m, SK_FLUID_DENSITY, &mat->density)) ||
         (st = scene_number(L, m, SK_FLUID_VISCOSITY, &mat->viscosity)))
@@ -153,17 +151,13 @@ sph_status scene_parse_materials(loader *L, const config_setting_t *root) {
                 "method.formulation \"eulerian-wc\" or \"eulerian-compressible\", "
                 "got \"%s\"; a solid material gives youngs_modulus and poisson_ratio",
                 sph_formulation_name(sc->formulation));
-        static const char *const fluid_only[] = {"viscosity", "gamma"};
-        for (size_t k = 0; k < sizeof fluid_only / sizeof fluid_only[0]; ++k) {
-            const config_setting_t *s = config_setting_get_member(m, fluid_only[k]);
-            if (s)
-                return scene_fail_at(
-                    L, s, NULL,
-                    "is for fluid materials (formulations \"eulerian-wc\" and "
-                    "\"eulerian-compressible\"); material '%s' is a solid (it has a "
-                    "youngs_modulus)",
-                    m->name);
-        }
+        const config_setting_t *fluid_key = scene_first_member(m, KEY_NAMES("viscosity", "gamma"));
+        if (fluid_key)
+            return scene_fail_at(L, fluid_key, NULL,
+                                 "is for fluid materials (formulations \"eulerian-wc\" and "
+                                 "\"eulerian-compressible\"); material '%s' is a solid (it has a "
+                                 "youngs_modulus)",
+                                 m->name);
         if ((st = scene_number(L, m, SK_MATERIAL_DENSITY, &mat->density)) ||
             (st = scene_number(L, m, SK_MATERIAL_YOUNGS_MODULUS, &mat->youngs_modulus)) ||
             (st = scene_number(L, m, SK_MATERIAL_POISSON_RATIO, &mat->poisson_ratio)))

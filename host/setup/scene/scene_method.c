@@ -64,18 +64,14 @@ sph_status scene_parse_method(loader *L, const config_setting_t *root) {
     if (eulerian) {
         /* seed 004 §3.1: a fluid has no shear stress, so the coefficients of
          * the solid formulations' shear and hourglass terms mean nothing */
-        static const char *const solid_keys[] = {
-            "torque_projection", "xi_e", "xi_g", "artificial_stress", "hourglass_alpha",
-            "pairwise_damping"};
-        for (size_t k = 0; k < sizeof solid_keys / sizeof solid_keys[0]; ++k) {
-            const config_setting_t *m = config_setting_get_member(g, solid_keys[k]);
-            if (m)
-                return scene_fail_at(
-                    L, m, NULL,
-                    "is for the solid formulations; formulation \"%s\" simulates a "
-                    "fluid (seed 004, section 3.1), which has no shear stress",
-                    sph_formulation_name((sph_formulation)formulation));
-        }
+        const config_setting_t *m = scene_first_member(
+            g, KEY_NAMES("torque_projection", "xi_e", "xi_g", "artificial_stress",
+                         "hourglass_alpha", "pairwise_damping"));
+        if (m)
+            return scene_fail_at(L, m, NULL,
+                                 "is for the solid formulations; formulation \"%s\" simulates a "
+                                 "fluid (seed 004, section 3.1), which has no shear stress",
+                                 sph_formulation_name((sph_formulation)formulation));
     }
     const bool rotates = formulation_rotates(formulation);
     const int def_rot = rotates ? SPH_ROTATION_AVERAGED : SPH_ROTATION_NONE;
@@ -200,18 +196,14 @@ sph_status scene_parse_time(loader *L, const config_setting_t *root) {
      * every step is an acoustic one */
     const bool eulerian = SPH_FORMULATION_IS_EULERIAN(sc->formulation);
     if (eulerian) {
-        static const char *const moving[] = {"cfl_advection", "frozen_geometry",
-                                             "acceleration_criterion"};
-        for (size_t k = 0; k < sizeof moving / sizeof moving[0]; ++k) {
-            const config_setting_t *m = config_setting_get_member(g, moving[k]);
-            if (m)
-                return scene_fail_at(
-                    L, m, NULL,
-                    "is for the formulations whose particles move (the advection "
-                    "step); formulation \"%s\" keeps its particles fixed and steps "
-                    "by time.cfl_acoustic alone",
-                    sph_formulation_name(sc->formulation));
-        }
+        const config_setting_t *m = scene_first_member(
+            g, KEY_NAMES("cfl_advection", "frozen_geometry", "acceleration_criterion"));
+        if (m)
+            return scene_fail_at(L, m, NULL,
+                                 "is for the formulations whose particles move (the advection "
+                                 "step); formulation \"%s\" keeps its particles fixed and steps "
+                                 "by time.cfl_acoustic alone",
+                                 sph_formulation_name(sc->formulation));
     }
     int stepping = 0;
     const config_setting_t *stepping_at = NULL;

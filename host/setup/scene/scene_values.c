@@ -273,6 +273,14 @@ sph_status scene_member(loader *L, const config_setting_t *g, sph_scene_key_id k
     return SPH_OK;
 }
 
+const config_setting_t *scene_first_member(const config_setting_t *g, const char *const *names) {
+    for (int k = 0; names[k]; ++k) {
+        const config_setting_t *m = config_setting_get_member(g, names[k]);
+        if (m) return m;
+    }
+    return NULL;
+}
+
 /* The member k of g, required here whatever the schema's default (a key
  * that some scenes need: a fixed_axes constraint's axes). */
 sph_status scene_require(loader *L, const config_setting_t *g, sph_scene_key_id k,
