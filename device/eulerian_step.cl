@@ -85,6 +85,18 @@
  * constant: clang warns of a logical operator with a constant operand
  * written out, not of one from a macro) */
 #    define IS_WALL(k) (KIND_OF(k) == SPH_PARTICLE_WALL)
+/* A far-field particle: the far field (eulerian_far_field) sets its state
+ * after every step, from the interior and the free stream; the step itself
+ * leaves it alone, as a fixed-state particle.  The public code lets it
+ * evolve through the step and resets it after, but with part of its support
+ * outside the box its own rates are those of a truncated sum, and the
+ * second stage's mass fluxes carried the v' they gave it into the interior:
+ * a uniform stream through far-field faces did not stay uniform
+ * (docs/fluids.md, "Boundaries"; tests/test_cylinder.py). */
+#    define IS_FAR_FIELD(k)                                                                        \
+        (KIND_OF(k) == SPH_PARTICLE_INFLOW || KIND_OF(k) == SPH_PARTICLE_OUTFLOW)
+/* a particle whose state the step's rates do not change */
+#    define HOLDS_STATE(k) (IS_FIXED(k) || IS_WALL(k) || IS_FAR_FIELD(k))
 /* the wall pairs' share of each fluid particle's F (pressure part, then
  * viscous part): minus their sum is the force on the walls */
 #    if SPH_FLUID_WALLS
@@ -559,20 +571,33 @@ KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
 KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, CONSTANT sph_params *prm,
                                    PAIR_ROWS_PARAMS, GLOBAL const real *restrict bmat,
                                    GLOBAL real *restrict pair_e, GLOBAL real *restrict pair_dwv,
-                                   GLOBAL real *restrict pair_inv_r) {
+                                   GLOBAL real *restrict pair_inv_r KIND_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     ROW_WALLS_UNUSED;
+#    if SPH_FLUID_KINDS
+    (void)normal;
+#    endif
     const int stride = ROWS_STRIDE;
     const real eps_linear = prm->viscous_eps_linear, eps_squared = prm->viscous_eps_squared;
     const mat b_i = sym_load(bmat, n, i);
+    const bool far_i = IS_FAR_FIELD(i);
     const int count = ROW_COUNT(i);
     for (int k = 0; k < count; ++k) {
         const int slot = ROW_SLOT(i, k);
         const int j = nbr_j[slot];
         vec e;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] = pair_e[a * stride + slot];
-        const mat b = mat_scale(mat_add(b_i, sym_load(bmat, n, j)), R(0.5));
+        /* (B_i + B_j) / 2; but a far-field particle's B is that of a
+         * support cut by the box's face, so a pair of it with a particle
+         * inside takes the inner particle's B alone: on a lattice every
+         * pair of an inner particle then has the same B and its sums of a
+         * uniform state vanish as in the bulk (with (B_i + B_j) / 2 a uniform
+         * stream through far-field faces was disturbed within 2h of them) */
+        const bool far_j = IS_FAR_FIELD(j);
+        const mat b = far_i == far_j ? mat_scale(mat_add(b_i, sym_load(bmat, n, j)), R(0.5))
+                      : far_j        ? b_i
+                                     : sym_load(bmat, n, j);
         const vec g = mat_vec(b, e);
         const real norm = sqrt(vec_dot(g, g));
         real turn = R(1);
@@ -591,7 +616,7 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, CONSTANT sph_params *
 /* Stage 1: the momentum rate F_i = d(m v)_i/dt (the Riemann momentum flux
  * and the viscous force, from the state n), stored as the second stage's
  * velocity v'_i = (m v)^{n+1} / m^n = v_i + dt F_i / m_i (the public code's
- * v^{n+1} = mv / m^n); fixed-state and wall particles keep v' = v. */
+ * v^{n+1} = mv / m^n); fixed-state, wall and far-field particles keep v' = v. */
 KERNEL void
 eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
                        PAIR_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
@@ -614,8 +639,8 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_flux[a] = lane_visc[a] = lanes_zero();
     /* wall pairs: their pressure flux and velocity sums */
     vec wall_flux = vec_zero(), wall_visc = vec_zero();
-    /* fixed-state and wall particles do not evolve: F = 0 */
-    const int count = IS_FIXED(i) || IS_WALL(i) ? 0 : ROW_COUNT(i);
+    /* fixed-state, wall and far-field particles do not evolve: F = 0 */
+    const int count = HOLDS_STATE(i) ? 0 : ROW_COUNT(i);
     /* the lanes' pairs: all, or the fluid pairs before the row's walls */
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
 #        define MOMENTUM_WALL_PAIR(slot_, j_)                                                      \
@@ -733,7 +758,7 @@ KERNEL void eulerian_mass_energy_rate(
 /* Stage 1 on row i's fluid pairs k_begin <= k < k_end, then its wall pairs
  * k_end <= k < walls_end (none for the far pairs): the momentum rate F into
  * force_sum (i's share, and minus it for each j), the wall pairs' pressure
- * and viscous parts into wall_force (a fixed-state particle's F is never
+ * and viscous parts into wall_force (the F of a fixed-state or far-field particle is never
  * used, so it skips its wall pairs; a particle without them keeps the zeros
  * the upload wrote). */
 FN_HOT void
@@ -777,7 +802,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     vec force = vec_zero();
     UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) UNROLL for (int a = 0; a < SPH_DIM; ++a)
         force.c[a] += LANE(lane_force[a], l);
-    if (walls_end > k_end && !IS_FIXED(i)) {
+    if (walls_end > k_end && !HOLDS_STATE(i)) {
         /* the wall pairs' share of F_i: pressure part, viscous part */
         vec wall_flux = vec_zero(), wall_visc = vec_zero();
         for (int k = k_end; k < walls_end; ++k) {
@@ -790,7 +815,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + i] += force.c[a];
 }
 
-/* Between the stages, per particle: v' = v + dt F / m (fixed-state and wall
+/* Between the stages, per particle: v' = v + dt F / m (fixed-state, wall and far-field
  * particles keep v' = v), force_sum zeroed for the next step, and the
  * second stage's sums zeroed. */
 FN void eulerian_momentum_stage(
@@ -802,7 +827,7 @@ FN void eulerian_momentum_stage(
     (void)normal;
 #            endif
     vec v = vec_load(vel, n, i);
-    if (!IS_FIXED(i) && !IS_WALL(i)) v = vec_axpy(v, dt / mass[i], vec_load(force_sum, n, i));
+    if (!HOLDS_STATE(i)) v = vec_axpy(v, dt / mass[i], vec_load(force_sum, n, i));
     vec_store(vel_stage, n, i, v);
     vec_store(force_sum, n, i, vec_zero());
     mass_rate[i] = R(0);
@@ -919,7 +944,7 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
                                 SOUND_OUT_PARAM FIXED_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
-    if (i >= n || IS_FIXED(i) || IS_WALL(i)) return;
+    if (i >= n || HOLDS_STATE(i)) return;
 #        if SPH_FLUID_KINDS
     (void)normal;
 #        endif
@@ -954,7 +979,7 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
  * what a two-stage step does), and eulerian_rk_update takes the stage.
  * Stage 0 evaluates L(U^n), stage 1 L(U1); the wall force is the mean of
  * the two stages' (the force the step applies), the vorticity that of U1.
- * Fixed-state and wall particles keep their state. */
+ * Fixed-state, wall and far-field particles keep their state. */
 KERNEL void eulerian_rates(
     ITEM_PARAM const int n, const int stage, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
     GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
@@ -1040,7 +1065,7 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, STEP_DT_
                                    SOUND_OUT_PARAM FIXED_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
     const int i = ITEM_ID;
-    if (i >= n || IS_FIXED(i) || IS_WALL(i)) return;
+    if (i >= n || HOLDS_STATE(i)) return;
 #        if SPH_FLUID_KINDS
     (void)normal;
 #        endif

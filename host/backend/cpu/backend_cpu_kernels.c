@@ -182,7 +182,8 @@ static void fluid_setup_impl(cpu_buffers *b) {
 #    pragma omp for schedule(static)
         for (int i = 0; i < n; ++i)
             eulerian_correct_pairs(i, n, prm, FLUID_ROWS(b), F_REAL(b, FIELD_BMAT),
-                                   (real *)b->pair_e, (real *)b->pair_dwv, (real *)b->pair_inv_r);
+                                   (real *)b->pair_e, (real *)b->pair_dwv,
+                                   (real *)b->pair_inv_r KIND_FIELD_ARGS);
         far_field_pass(b, &t);
     }
 }
