@@ -969,20 +969,41 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
 
 #    endif /* SPH_FLUID_TWO_STAGE */
 
-#    if SPH_FLUID_RK2
-/* SSP-RK2 (Shu & Osher 1988; time.integrator = "ssp-rk2"), the option to
- * the public code's two stages.  With L(U) the rates of eq. 14 (mass,
- * momentum, energy) from one state U = (m, m v, E w):
- *   U1 = U^n + dt L(U^n),   U^{n+1} = (U^n + U1 + dt L(U1)) / 2.
+#    if SPH_FLUID_RK
+/* SSP-RK2 and SSP-RK3 (Shu & Osher 1988; time.integrator = "ssp-rk2",
+ * "ssp-rk3"), the options to the public code's two stages.  With L(U) the
+ * rates of eq. 14 (mass, momentum, energy) from one state U = (m, m v, E w),
+ * every stage is U <- a U^n + (1 - a) (U + dt L(U)) from U = U^n:
+ *   SSP-RK2: a = 0, 1/2:  U1 = U^n + dt L(U^n),  U^{n+1} = (U^n + U1 + dt L(U1)) / 2;
+ *   SSP-RK3: a = 0, 3/4, 1/3:  U2 = 3/4 U^n + 1/4 (U1 + dt L(U1)),
+ *            U^{n+1} = 1/3 U^n + 2/3 (U2 + dt L(U2)).
+ * Why three: the fluxes of a stream are central (the limited dissipation
+ * vanishes with the velocity jump), and a central flux under forward-Euler
+ * stages amplifies short waves (the two-stage update by 1 + (u k dt)^2 per
+ * step, SSP-RK2 by 1 + (u k dt)^4 / 4); SSP-RK3 damps them (by
+ * 1 - (u k dt)^4 / 12 + ...) up to u k dt = sqrt(3).  A density bump carried by
+ * a uniform stream grows into noise with the other two (docs/fluids.md).
  * eulerian_rates evaluates L from one state in one pair loop, one Riemann
- * problem per pair where the two stages solve two (so a step costs about
- * what a two-stage step does), and eulerian_rk_update takes the stage.
- * Stage 0 evaluates L(U^n), stage 1 L(U1); the wall force is the mean of
- * the two stages' (the force the step applies), the vorticity that of U1.
+ * problem per pair, and eulerian_rk_update takes the stage.  The wall force
+ * is the step's weighted mean of the stages' (1/2, 1/2; 1/6, 1/6, 2/3: the
+ * force the step applies), the vorticity that of the last stage's state.
  * Fixed-state, wall and far-field particles keep their state. */
+
+/* a of the stage: the weight of U^n in the stage's new state */
+FN real rk_weight_of_start(const int stages, const int stage) {
+    return stage == 0 ? R(0) : stages == 2 ? R(0.5) : stage == 1 ? R(0.75) : R(1) / R(3);
+}
+
+/* the weight that the wall force summed over the earlier stages keeps at
+ * this stage (the rest goes to this stage's): 1/2 at stage 1, 1/3 at
+ * stage 2 give 1/2, 1/2 and 1/6, 1/6, 2/3 */
+FN real rk_force_keep(const int stage) {
+    return stage == 0 ? R(0) : stage == 1 ? R(0.5) : R(1) / R(3);
+}
+
 KERNEL void eulerian_rates(
-    ITEM_PARAM const int n, const int stage, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
-    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    ITEM_PARAM const int n, const int stage, const int stages, CONSTANT sph_params *prm,
+    PAIR_ROWS_PARAMS, GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
     GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
     GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
     GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
@@ -1031,7 +1052,7 @@ KERNEL void eulerian_rates(
     const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
     const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
     if (PRESENT(wall_force)) {
-        const real keep = stage == 0 ? R(0) : R(0.5), add = stage == 0 ? R(1) : R(0.5);
+        const real keep = rk_force_keep(stage), add = R(1) - keep;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) {
             wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
             wall_force[(SPH_DIM + a) * n + i] =
@@ -1044,6 +1065,7 @@ KERNEL void eulerian_rates(
     (void)wall_visc;
     (void)stage;
 #        endif
+    (void)stages;
     vec_store(momentum_rate, n, i, force);
     mass_rate[i] = R(-2) * w_i * t.mass;
     UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = t.curl.c[a];
@@ -1055,8 +1077,8 @@ KERNEL void eulerian_rates(
 /* The stage's update of the conserved variables (see eulerian_rates), then
  * rho = m / w, v = (m v) / m, p by the EOS and the ideal gas's sound speed;
  * state_saved holds U^n between the stages (m, m v, E w). */
-KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, STEP_DT_PARAM,
-                               CONSTANT sph_params *prm, GLOBAL real *restrict vel,
+KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, const int stages,
+                               STEP_DT_PARAM, CONSTANT sph_params *prm, GLOBAL real *restrict vel,
                                GLOBAL real *restrict mass, GLOBAL hreal *restrict rho,
                                GLOBAL const real *restrict vol, GLOBAL real *restrict pressure,
                                GLOBAL const real *restrict mass_rate,
@@ -1083,11 +1105,12 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, STEP_DT_
         state_saved[(1 + SPH_DIM) * n + i] = energy[i];
 #        endif
     } else {
-        m = R(0.5) * (state_saved[i] + m);
+        const real a0 = rk_weight_of_start(stages, stage), a1 = R(1) - a0;
+        m = a0 * state_saved[i] + a1 * m;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) mv.c[a] =
-            R(0.5) * (state_saved[(1 + a) * n + i] + mv.c[a]);
+            a0 * state_saved[(1 + a) * n + i] + a1 * mv.c[a];
 #        if SPH_HAS_COMPRESSIBLE
-        e = R(0.5) * (state_saved[(1 + SPH_DIM) * n + i] + e);
+        e = a0 * state_saved[(1 + SPH_DIM) * n + i] + a1 * e;
 #        endif
     }
     const vec v = vec_scale(mv, R(1) / m);

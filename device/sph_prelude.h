@@ -235,7 +235,7 @@ typedef uint64_t ulong;
 #define SPH_HAS_COMPRESSIBLE (RUNTIME_FORMULATION == FORMULATION_EULERIAN_COMPRESSIBLE)
 /* Fluid scenes with wall bodies or a far field: the per-particle kind and
  * normal (SPH_FLUID_KINDS), the wall-pair forces (SPH_FLUID_WALLS), the far
- * field's pass (SPH_FAR_FIELD), SSP-RK2's passes (SPH_FLUID_RK2,
+ * field's pass (SPH_FAR_FIELD), SSP-RK's passes (SPH_FLUID_RK,
  * time.integrator); -D options of the OpenCL program, always
  * compiled into the native fluid instances (PRESENT tests the buffers). */
 #if SPH_OPENCL
@@ -248,15 +248,15 @@ typedef uint64_t ulong;
 #    ifndef SPH_FAR_FIELD
 #        define SPH_FAR_FIELD 0
 #    endif
-#    ifndef SPH_FLUID_RK2
-#        define SPH_FLUID_RK2 0
+#    ifndef SPH_FLUID_RK
+#        define SPH_FLUID_RK 0
 #    endif
-#    define SPH_FLUID_TWO_STAGE (SPH_HAS_EULERIAN && !SPH_FLUID_RK2)
+#    define SPH_FLUID_TWO_STAGE (SPH_HAS_EULERIAN && !SPH_FLUID_RK)
 #else
 #    define SPH_FLUID_KINDS     SPH_HAS_EULERIAN
 #    define SPH_FLUID_WALLS     SPH_HAS_EULERIAN
 #    define SPH_FAR_FIELD       SPH_HAS_EULERIAN
-#    define SPH_FLUID_RK2       SPH_HAS_EULERIAN
+#    define SPH_FLUID_RK        SPH_HAS_EULERIAN
 #    define SPH_FLUID_TWO_STAGE SPH_HAS_EULERIAN
 #endif
 

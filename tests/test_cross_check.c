@@ -27,7 +27,8 @@
  * of cases/shu_osher_1d at dp = 0.01 (fixed-state buffers, periodic in y,
  * the shock and the entropy waves) and as its true 1D line (line.cfg, the 1D
  * instances, dp = 1/200); with time.integrator = "ssp-rk2" the ideal-gas
- * vortex and the small cylinder (walls, far field), 200 steps each.  Measured on pocl 3.1:
+ * vortex and the small cylinder (walls, far field), with "ssp-rk3" the small
+ * cylinder, 200 steps each.  Measured on pocl 3.1:
  * velocity <= 1.8e-14 (vortices), <= 2.0e-15 (tube); density, mass and
  * energy <= 3e-15.
  */
@@ -251,6 +252,10 @@ int main(void) {
     cross_check(&t, "taylor_green_2d", tgv_gas_rk2, 6, SPH_PRECISION_DOUBLE, stored, 1e-10);
     const char *cylinder_rk2[] = {"time.integrator=ssp-rk2"};
     cross_check(&t, "cylinder_flow_2d/small.cfg", cylinder_rk2, 1, SPH_PRECISION_DOUBLE, stored,
+                1e-10);
+    /* SSP-RK3: three stages, the wall force weighted 1/6, 1/6, 2/3 */
+    const char *cylinder_rk3[] = {"time.integrator=ssp-rk3"};
+    cross_check(&t, "cylinder_flow_2d/small.cfg", cylinder_rk3, 1, SPH_PRECISION_DOUBLE, stored,
                 1e-10);
     return test_summary("test_cross_check", &t);
 }

@@ -5,7 +5,7 @@ cases cases/taylor_green_2d and cases/shu_osher_1d.
 1. Conservation on the periodic box (both backends, also under the sanitizers): the
    Taylor-Green vortex at dp = 0.05 (400 particles) to t = 0.5, weakly compressible
    (scene.cfg) and as an ideal gas with HLLC (public_code.cfg), each with the two-stage update
-   and with time.integrator = "ssp-rk2" (which allocates its own buffers and compiles its own
+   and with time.integrator = "ssp-rk2" and "ssp-rk3" (which allocate their own buffers and compile their own
    passes, not the other's).  The fluxes are pairwise
    antisymmetric and the particles fixed, so over the run the relative change of the mass and,
    for the ideal gas, of the total energy (the viscous work enters the internal energy
@@ -48,6 +48,10 @@ cases cases/taylor_green_2d and cases/shu_osher_1d.
 6. The native backend (also under the sanitizers): the vortex at dp = 1/100 (10 000
    particles, periodic on both axes), weakly compressible and as an ideal gas, gives the same
    bits on 1 and on 2 threads (the fluid pairs summed once, docs/backends.md).
+7. Every backend: a density bump of 1 % carried by a uniform stream at Mach 0.1 through a
+   periodic box: the public code's two-stage update amplifies its short waves (acoustic energy
+   more than 10 times its start by t = 5; measured 40 times), SSP-RK3 does not (the energy never
+   rises above its start and halves by t = 20; measured 3.17e-3 from 7.85e-3).
 
 Under the sanitizers (SPHSOLID_SANITIZED) 2-4 are left to the release build; on the OpenCL
 backend 2-4 are not run (the native backend is the reference; test_cross_check compares the
@@ -109,21 +113,25 @@ def rel_change(ts, column):
 
 
 # --- 1. conservation on the periodic box, both backends
-for label, scene, rk2 in (("weakly compressible", TGV, False), ("ideal gas", TGV_GAS, False),
-                          ("weakly compressible, SSP-RK2", TGV, True),
-                          ("ideal gas, SSP-RK2", TGV_GAS, True)):
-    name = "tgv-%s%s" % ("gas" if scene == TGV_GAS else "wc", "-rk2" if rk2 else "")
+for label, scene, integrator in (("weakly compressible", TGV, None),
+                                 ("ideal gas", TGV_GAS, None),
+                                 ("weakly compressible, SSP-RK2", TGV, "ssp-rk2"),
+                                 ("ideal gas, SSP-RK2", TGV_GAS, "ssp-rk2"),
+                                 ("weakly compressible, SSP-RK3", TGV, "ssp-rk3"),
+                                 ("ideal gas, SSP-RK3", TGV_GAS, "ssp-rk3")):
+    runge_kutta = integrator is not None  # SSP-RK: its own buffers and passes
+    name = "tgv-%s-%s" % ("gas" if scene == TGV_GAS else "wc", integrator or "two-stage")
     summ, ts = run(scene, name, ["resolution.dp=0.05", "time.end=0.5", "time.output_interval=0.05"]
-                   + (["time.integrator=ssp-rk2"] if rk2 else []))
+                   + (["time.integrator=" + integrator] if integrator else []))
     if summ is None:
         continue
     check(summ["particle_count"] == 400, "%s: 400 particles (%d)" % (label, summ["particle_count"]))
     # only what a fluid scene uses is allocated and compiled in (host/model/fields.c): the fluid's
     # conserved variables and rates, none of the solid's stress, rotation or acoustic buffers
     buffers = {b["name"] for b in summ["memory"]["buffers"]}
-    # the update's own buffers: v' of the two stages, or SSP-RK2's momentum rate and U^n
-    update = {"momentum_rate", "state_saved"} if rk2 else {"vel_stage"}
-    other_update = {"vel_stage"} if rk2 else {"momentum_rate", "state_saved"}
+    # the update's own buffers: v' of the two stages, or SSP-RK's momentum rate and U^n
+    update = {"momentum_rate", "state_saved"} if runge_kutta else {"vel_stage"}
+    other_update = {"vel_stage"} if runge_kutta else {"momentum_rate", "state_saved"}
     needed = {"pressure", "mass_rate", "vorticity"} | update | (
         {"energy", "energy_rate", "sound_speed"} if scene == TGV_GAS else set())
     solid = {"tau", "drho", "acc_diss", "acc_shear", "dacc_shear", "spin", "defgrad", "pk1"}
@@ -135,7 +143,7 @@ for label, scene, rk2 in (("weakly compressible", TGV, False), ("ideal gas", TGV
           % (label, sorted(unused & buffers)))
     if BACKEND == "opencl":
         kernels = {k.split("(")[0] for k in summ["program_kernels"]}
-        passes = {"eulerian_rates", "eulerian_rk_update"} if rk2 else {
+        passes = {"eulerian_rates", "eulerian_rk_update"} if runge_kutta else {
             "eulerian_momentum_rate", "eulerian_mass_energy_rate", "eulerian_update"}
         others = {"eulerian_momentum_rate", "eulerian_rates"} - passes
         check(passes <= kernels and not (others & kernels) and not any(
@@ -377,6 +385,47 @@ if BACKEND == "cpu":
                            capture_output=True, text=True)
         check(p.returncode == 0, "%s: 1 and 2 threads give the same bits: %s"
               % (label, p.stdout[-600:]))
+
+# --- 7. a stream carries a small disturbance without amplifying it only under SSP-RK3
+# (docs/fluids.md, "One step, and what it conserves"): a density bump of 1 % in a uniform stream
+# U = (1, 0) (Mach 0.1) through a periodic box 10 x 6 at dp = 0.25 (960 particles), at the
+# cylinder's acoustic CFL 0.5 (the 2D default 0.3 amplifies too, more slowly).  Its acoustic
+# energy (timeseries.csv's internal_energy, sum w p^2 / (2 rho0 c0^2)) starts at 7.85e-3.  The
+# central fluxes of a stream (the limited dissipation vanishes with the velocity jump) under the
+# two forward stages amplify short waves: the public code's update multiplies it by about 40 by
+# t = 5 (measured 0.310; by t = 10 the monitor stops the run, the total energy up 54 %).  Under
+# SSP-RK3 it only radiates and decays: 3.17e-3 at t = 20 (measured), below its start.
+BUMP = """title = "a density bump carried by a uniform stream";
+dimension = 2;
+resolution = { dp = 0.25; };
+method = { formulation = "eulerian-wc"; kernel = "laguerre-gauss"; };
+time = { end = 20.0; output_interval = 1.0; cfl_acoustic = 0.5; };
+output = { snapshot_interval = 20.0; };
+materials = { fluid = { density = 1.0; sound_speed = 10.0; viscosity = 0.02; }; };
+shapes = { box = { type = "box"; lower = [0.0, 0.0]; upper = [10.0, 6.0]; }; };
+boundary = { periodic = ["x", "y"]; lower = [0.0, 0.0]; upper = [10.0, 6.0]; };
+bodies = ( { name = "fluid"; material = "fluid"; shape = "box";
+             initial_density = "1 + 0.01 * exp(-((x - 5)^2 + (y - 3)^2))";
+             initial_velocity = { type = "uniform"; vector = [1.0, 0.0]; }; } );
+"""
+bump = os.path.join(tmp, "bump.cfg")
+with open(bump, "w") as f:
+    f.write(BUMP)
+summ, ts = run(bump, "bump-two-stage", ["time.end=5.0"])
+if summ is not None:
+    e0, e5 = float(ts["internal_energy"][0]), at(ts, "internal_energy", 5.0)
+    print("bump in a stream, two stages: acoustic energy %.3g at t = 0, %.3g at t = 5" % (e0, e5))
+    check(e5 > 10.0 * e0, "two stages: the stream amplifies the bump's short waves (%.3g -> %.3g)"
+          % (e0, e5))
+summ, ts = run(bump, "bump-ssp-rk3", ["time.integrator=ssp-rk3"])
+if summ is not None:
+    e0, e20 = float(ts["internal_energy"][0]), at(ts, "internal_energy", 20.0)
+    peak = float(np.max(ts["internal_energy"]))
+    print("bump in a stream, SSP-RK3: acoustic energy %.3g at t = 0, %.3g at t = 20, at most %.3g"
+          % (e0, e20, peak))
+    check(peak <= e0 * (1.0 + 1e-9) and e20 < 0.5 * e0,
+          "SSP-RK3: the bump's acoustic energy never rises and halves by t = 20 (%.3g, max %.3g, "
+          "at t = 20 %.3g)" % (e0, peak, e20))
 
 shutil.rmtree(tmp, ignore_errors=True)
 finish("test_fluids_" + BACKEND)

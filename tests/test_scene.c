@@ -789,7 +789,8 @@ static const bad_row FLUID_BAD[] = {
     {"eulerian with cfl_advection", "end = 1.0;", "end = 1.0; cfl_advection = 0.2;", NULL,
      "%F:5: time.cfl_advection: is for the formulations whose particles move"},
     {"eulerian: an unknown integrator", "end = 1.0;", "end = 1.0; integrator = \"rk4\";", NULL,
-     "%F:5: time.integrator: must be one of \"two-stage\", \"ssp-rk2\", got \"rk4\""},
+     "%F:5: time.integrator: must be one of \"two-stage\", \"ssp-rk2\", \"ssp-rk3\", got "
+     "\"rk4\""},
     {"eulerian with frozen_geometry", "end = 1.0;", "end = 1.0; frozen_geometry = \"start\";", NULL,
      "%F:5: time.frozen_geometry: is for the formulations whose particles move"},
     {"eulerian with acceleration_criterion", "end = 1.0;",
@@ -1536,7 +1537,7 @@ static void test_fluids(test_counts *c) {
              "formulation = \"eulerian-wc\"; riemann_limiter = 5.0; "
              "viscous_regularization = \"linear\";"},
             {"end = 1.0;", "end = 1.0; cfl_acoustic = 0.25; reference_speed = 1.0; "
-                           "integrator = \"ssp-rk2\";"},
+                           "integrator = \"ssp-rk3\";"},
             {"shape = \"box\";", "shape = \"box\"; initial_density = \"1 + 0.1 * x * y\";"},
             {"lower = [0.0, 0.0]; upper = [1.0, 1.0]; };\n};", "lower = [0.0, 0.0]; upper = [1.0, "
                                                                "0.5]; };\n};"},
@@ -1549,7 +1550,7 @@ static void test_fluids(test_counts *c) {
             CHECK(c,
                   s.riemann_limiter_slope == 5.0 && s.cfl_acoustic == 0.25 &&
                       s.viscous_regularization == SPH_VISCOUS_LINEAR &&
-                      s.fluid_integrator == SPH_FLUID_SSP_RK2,
+                      s.fluid_integrator == SPH_FLUID_SSP_RK3,
                   "given values");
             CHECK(c, strcmp(s.bodies[0].initial_density, "1 + 0.1 * x * y") == 0, "text '%s'",
                   s.bodies[0].initial_density);

@@ -144,9 +144,11 @@ def plan(args):
     if "cylinder" in args.suites:
         for kernel in args.cyl_kernels:
             for n in args.cyl_n:
-                runs.append({"suite": "cylinder", "formulation": "eulerian-wc", "kernel": kernel,
-                             "n": n, "limiter": None, "end": args.cyl_end,
-                             "window": args.cyl_window or min(CYL_WINDOW, args.cyl_end / 3.0)})
+                for integrator in args.cyl_integrators:
+                    runs.append({"suite": "cylinder", "formulation": "eulerian-wc",
+                                 "kernel": kernel, "n": n, "limiter": None, "end": args.cyl_end,
+                                 "window": args.cyl_window or min(CYL_WINDOW, args.cyl_end / 3.0),
+                                 "integrator": integrator})
     # SSP-RK2 (time.integrator) on the cheap ladders: the line and the weakly compressible TGV
     for r in list(runs):
         for integrator in args.integrators:
@@ -155,7 +157,7 @@ def plan(args):
             if integrator != "two-stage" and cheap and r["limiter"] in (None, SO_DEFAULT_LIMITER):
                 runs.append(dict(r, integrator=integrator))
     if "two-stage" not in args.integrators:  # only the other integrators' rows this time
-        runs = [r for r in runs if integrator_of(r) != "two-stage"]
+        runs = [r for r in runs if integrator_of(r) != "two-stage" or r["suite"] == "cylinder"]
     seen, unique = set(), []
     for r in runs:
         key = row_key(r)
@@ -207,6 +209,9 @@ def layout_of(r):
     """The Shu-Osher tube's layout ("strip" or "line"); None for the TGV.  Rows written
     before the line existed are strips."""
     return r.get("layout", "strip") if r["suite"] == "shu-osher" else None
+
+
+INTEGRATORS = ["two-stage", "ssp-rk2", "ssp-rk3"]
 
 
 def integrator_of(r):
@@ -605,7 +610,7 @@ def markdown(result, args, png_names):
         out.append("")
         for form in TGV_SCENES:
             for kernel in KERNELS:
-                for integ in ("two-stage", "ssp-rk2"):
+                for integ in INTEGRATORS:
                     ladder = [r for r in tgv if r["formulation"] == form and r["kernel"] == kernel
                               and integrator_of(r) == integ and r.get("ke_error_ratio") is not None]
                     if ladder:
@@ -616,7 +621,8 @@ def markdown(result, args, png_names):
                             " (order " + ", ".join(f"{r['ke_error_order']:.2f}" for r in ladder) +
                             f"): >= 3 per halving {'met' if met else '**not met**'}.")
         out.append("")
-    cyl = sorted([r for r in rows if r["suite"] == "cylinder"], key=lambda r: (r["kernel"], r["n"]))
+    cyl = sorted([r for r in rows if r["suite"] == "cylinder"],
+                 key=lambda r: (r["kernel"], r["n"], INTEGRATORS.index(integrator_of(r))))
     if cyl:
         out += ["## Flow around a cylinder, Re = 100 (004 §4.3, Fig. 5, Table 5)", "",
                 "`cases/cylinder_flow_2d/scene.cfg` (eulerian-wc, the linearised solver with "
@@ -631,15 +637,15 @@ def markdown(result, args, png_names):
                 "asks for them within 3 %, 10 % and 3 % at dp = 1/20.  Speed: the issue's target "
                 f"is dp = 1/10 to t = 300 in <= {CYL_TARGET_SECONDS:g} s on the 2-core machine "
                 f"(a tenth of the seed's {CYL_SEED_SECONDS:g} s on 8 cores).", "",
-                "| kernel | dp | end (window) | particles | steps | C_D | vs 1.33 | C_L amplitude | "
+                "| kernel, update | dp | end (window) | particles | steps | C_D | vs 1.33 | C_L amplitude | "
                 "vs 0.340 | St | vs 0.169 | wall (s) | M particle-steps/s | threads | load | "
                 "commit |",
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in cyl:
             pss = r.get("particle_substeps_per_second")
             out.append(
-                f"| {KERNEL_LABELS.get(r['kernel'], r['kernel'])} | {dp_label(r['n'])} | "
-                f"{r.get('end', CYL_END):g} ({r.get('window', CYL_WINDOW):g}) | "
+                f"| {KERNEL_LABELS.get(r['kernel'], r['kernel'])}, {integrator_of(r)} | "
+                f"{dp_label(r['n'])} | {r.get('end', CYL_END):g} ({r.get('window', CYL_WINDOW):g}) | "
                 f"{fmt(r['particles'], 'd')} | {fmt(r['steps'], 'd')} | " +
                 "".join(f"{fmt(r.get(key))} | {fmt(r.get(key + '_deviation'), '+.1%')} | "
                         for key in CYL_SEED) +
@@ -766,11 +772,14 @@ def plots(rows, png_dir, title):
     cyl = [r for r in rows if r["suite"] == "cylinder" and r.get("_forces")]
     if cyl:
         fig, axes = plt.subplots(2, 1, figsize=(11, 7), sharex=True)
-        for r in sorted(cyl, key=lambda r: (r["kernel"], r["n"])):
+        for r in sorted(cyl, key=lambda r: (r["kernel"], r["n"], integrator_of(r))):
             t, cd, cl = r["_forces"]
-            lab = f"{KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}"
+            lab = f"{KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}" + (
+                f", {integrator_of(r)}" if integrator_of(r) != "two-stage" else "")
             colour = KERNEL_COLOURS.get(r["kernel"], "k")
             ls = styles[sorted({q["n"] for q in cyl}).index(r["n"]) % len(styles)]
+            if integrator_of(r) != "two-stage":
+                ls = "-."
             axes[0].plot(t, cd, ls, color=colour, lw=0.8, label=lab)
             axes[1].plot(t, cl, ls, color=colour, lw=0.8, label=lab)
         axes[0].axhline(CYL_SEED["mean_drag_coefficient"], color="k", lw=0.8, ls=":",
@@ -881,9 +890,11 @@ def main():
     ap.add_argument("--so-layouts", nargs="+", default=list(SO_SCENES), choices=list(SO_SCENES),
                     help="the tube as the 2D strip (scene.cfg) and/or the 1D line (line.cfg)")
     ap.add_argument("--integrators", nargs="+", default=["two-stage", "ssp-rk2"],
-                    choices=["two-stage", "ssp-rk2"],
-                    help="time.integrator; SSP-RK2 runs the cheap ladders only (the line, the "
-                         "weakly compressible TGV)")
+                    choices=INTEGRATORS,
+                    help="time.integrator; the SSP-RK ones run the cheap ladders only (the line, "
+                         "the weakly compressible TGV)")
+    ap.add_argument("--cyl-integrators", nargs="+", default=["two-stage"], choices=INTEGRATORS,
+                    help="time.integrator of the cylinder runs (default two-stage)")
     ap.add_argument("--so-limiters", type=float, nargs="+", default=[1.0, 5.0], metavar="ETA",
                     help="eta_HLLC compared at --so-limiter-n (default 1 5)")
     ap.add_argument("--so-limiter-n", type=int, nargs="*", default=[200], metavar="N",

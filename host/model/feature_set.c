@@ -39,7 +39,10 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
             if (scene->bodies[b].role == SPH_BODY_WALL) out->fluid_walls = true;
         out->far_field = scene->has_far_field;
         out->fluid_kinds = particles->kind != NULL;
-        out->fluid_rk2 = scene->fluid_integrator == SPH_FLUID_SSP_RK2;
+        out->fluid_rk = scene->fluid_integrator != SPH_FLUID_TWO_STAGE;
+        out->fluid_rk_stages = scene->fluid_integrator == SPH_FLUID_SSP_RK3   ? 3
+                               : scene->fluid_integrator == SPH_FLUID_SSP_RK2 ? 2
+                                                                              : 0;
     }
 }
 
@@ -84,7 +87,7 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              /* fluids: walls and far field (device/sph_prelude.h) */
              f->fluid_kinds ? " -DSPH_FLUID_KINDS=1" : "",
              f->fluid_walls ? " -DSPH_FLUID_WALLS=1" : "", f->far_field ? " -DSPH_FAR_FIELD=1" : "",
-             f->fluid_rk2 ? " -DSPH_FLUID_RK2=1" : "",
+             f->fluid_rk ? " -DSPH_FLUID_RK=1" : "",
              /* TLSPH: a hyperelastic law, the pairwise damping (tl_step.cl) */
              elastic_model, f->tl_damping ? " -DSPH_TL_DAMPING=1" : "",
              /* several materials (device/sph_materials.h) */

@@ -50,8 +50,10 @@ typedef struct {
     /* fluids (device/eulerian_step.cl): particle kinds and normals (walls
      * or a far field), wall bodies, the far field */
     bool fluid_kinds, fluid_walls, far_field;
-    /* fluids: SSP-RK2 in place of the two-stage update (time.integrator) */
-    bool fluid_rk2;
+    /* fluids: SSP Runge-Kutta of fluid_rk_stages (2 or 3) stages in place of
+     * the two-stage update (time.integrator) */
+    bool fluid_rk;
+    int fluid_rk_stages;
 } sph_features;
 
 void sph_features_from_scene(const sph_scene *scene, const sph_particles *particles,

@@ -47,7 +47,7 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
          * sit at the top of its neighbour row (device/sph_contact.h) */
         [FIELD_CONTACT_COUNT] = {"contact_count", FIELD_TYPE_INT32, 1, f->contact},
         [FIELD_PRESSURE] = {"pressure", FIELD_TYPE_REAL, 1, fluid},
-        [FIELD_VEL_STAGE] = {"vel_stage", FIELD_TYPE_REAL, d, fluid && !f->fluid_rk2},
+        [FIELD_VEL_STAGE] = {"vel_stage", FIELD_TYPE_REAL, d, fluid && !f->fluid_rk},
         [FIELD_MASS_RATE] = {"mass_rate", FIELD_TYPE_REAL, 1, fluid},
         [FIELD_ENERGY] = {"energy", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_ENERGY_RATE] = {"energy_rate", FIELD_TYPE_REAL, 1, compressible},
@@ -56,9 +56,9 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         [FIELD_KIND] = {"kind", FIELD_TYPE_U8, 1, fluid && f->fluid_kinds},
         [FIELD_NORMAL] = {"normal", FIELD_TYPE_REAL, d, fluid && f->fluid_kinds},
         [FIELD_WALL_FORCE] = {"wall_force", FIELD_TYPE_REAL, 2 * d, fluid && f->fluid_walls},
-        [FIELD_MOMENTUM_RATE] = {"momentum_rate", FIELD_TYPE_REAL, d, fluid && f->fluid_rk2},
+        [FIELD_MOMENTUM_RATE] = {"momentum_rate", FIELD_TYPE_REAL, d, fluid && f->fluid_rk},
         [FIELD_STATE_SAVED] = {"state_saved", FIELD_TYPE_REAL, 1 + d + (compressible ? 1 : 0),
-                               fluid && f->fluid_rk2},
+                               fluid && f->fluid_rk},
     };
     for (int k = 0; k < FIELD_COUNT; ++k) out[k] = table[k];
 }

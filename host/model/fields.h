@@ -53,7 +53,7 @@ typedef enum {
     FIELD_KIND,        /* SPH_PARTICLE_* (walls or a far field) */
     FIELD_NORMAL,      /* wall particles: normal into the fluid; far field: outward */
     FIELD_WALL_FORCE,  /* the wall pairs' share of d(m v)/dt: pressure (d), viscous (d) */
-    /* fluids with time.integrator = "ssp-rk2" (eulerian_rates) */
+    /* fluids with time.integrator = "ssp-rk2" or "ssp-rk3" (eulerian_rates) */
     FIELD_MOMENTUM_RATE, /* d(m v)/dt */
     FIELD_STATE_SAVED,   /* the step's start: m, m v (d), E w (compressible) */
     FIELD_COUNT

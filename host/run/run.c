@@ -244,9 +244,11 @@ static json_object *resolved_json(const sph_simulation *sim) {
     json_object_object_add(res, "riemann_limiter",
                            json_object_new_double(sc->riemann_limiter_slope));
     if (SPH_FORMULATION_IS_EULERIAN(sc->formulation))
-        json_object_object_add(
-            res, "integrator",
-            sph_json_string(sc->fluid_integrator == SPH_FLUID_SSP_RK2 ? "ssp-rk2" : "two-stage"));
+        json_object_object_add(res, "integrator",
+                               sph_json_string(sc->fluid_integrator == SPH_FLUID_SSP_RK3 ? "ssp-rk3"
+                                               : sc->fluid_integrator == SPH_FLUID_SSP_RK2
+                                                   ? "ssp-rk2"
+                                                   : "two-stage"));
     if (SPH_FORMULATION_IS_EULERIAN(sc->formulation))
         json_object_object_add(res, "viscous_regularization",
                                sph_json_string(sc->viscous_regularization == SPH_VISCOUS_LINEAR

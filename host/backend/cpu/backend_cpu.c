@@ -502,7 +502,7 @@ static sph_status cpu_rebuild_finish(sph_backend *be, sph_error *err) {
     sph_status st = pack_pair_rows(be, c, err);
     if (st) return st;
     c->k->fluid_setup(&c->b);
-    /* the two stages (SSP-RK2 has a momentum-rate field) */
+    /* the two stages (SSP-RK has a momentum-rate field) */
     if (!c->b.field[FIELD_MOMENTUM_RATE] && (st = build_once_rows(be, c, err))) return st;
     phase_end(be, "fluid setup", t0);
     return SPH_OK;
@@ -694,6 +694,7 @@ sph_status sph_backend_cpu_create(const sph_backend_request *req, const sph_feat
     c->host_clock = req->step_clock == SPH_STEP_CLOCK_HOST;
     c->real_size = f->double_precision ? sizeof(double) : sizeof(float);
     c->b.n = n;
+    c->b.rk_stages = f->fluid_rk_stages;
     c->b.parallel = use_threads(n);
     snprintf(be->device_name, sizeof be->device_name, "native CPU backend, %d OpenMP thread%s",
              c->b.parallel ? omp_get_max_threads() : 1, c->b.parallel ? "s" : "");

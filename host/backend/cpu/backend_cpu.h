@@ -34,7 +34,7 @@ typedef struct {
      * once_far[i] far pairs, in once_j and once_e, once_dwv, once_inv_r;
      * far_rows lists the nfar_rows rows with far pairs; pair_block is the
      * block length; force_sum the momentum rates (dim x n).  NULL before,
-     * and for SSP-RK2 */
+     * and for SSP-RK */
     int32_t *once_start, *once_count, *once_walls, *once_far, *once_j, *far_rows;
     void *once_e, *once_dwv, *once_inv_r, *force_sum;
     int nfar_rows, pair_block;
@@ -46,6 +46,7 @@ typedef struct {
     void *partials;     /* real[ngroups * ncomp] */
     void *substep_sums; /* real[1 + SPH_MAX_BODIES * 9] */
     int ngroups;
+    int rk_stages;         /* fluids: SSP-RK's stages (time.integrator), 0: the two stages */
     bool parallel;         /* run the loops on the OpenMP team (else on the calling thread) */
     cpu_team_barrier team; /* the substeps' barrier (cpu_team.h) */
 } cpu_buffers;

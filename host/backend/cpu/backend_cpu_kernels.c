@@ -226,8 +226,8 @@ static void fluid_setup_impl(cpu_buffers *b) {
         } while (0)
 
 /* One step of a fluid run (eulerian_step.cl) in one parallel region: the
- * momentum rate, the mass and energy rates, the update (or SSP-RK2's two
- * rate passes and stage updates), the far field, then the step clock's
+ * momentum rate, the mass and energy rates, the update (or SSP-RK's rate
+ * pass and stage update per stage), the far field, then the step clock's
  * signal speed over fixed blocks of SPH_WG particles. */
 static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
     const int n = b->n;
@@ -236,12 +236,13 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
     const int ngroups = (n + SPH_WG - 1) / SPH_WG;
     {
         if (b->field[FIELD_MOMENTUM_RATE]) {
-            /* SSP-RK2 (time.integrator): the rates of U^n, stage 0, the
-             * rates of U1, stage 1 */
-            for (int stage = 0; stage < 2; ++stage) {
+            /* SSP-RK (time.integrator): per stage the rates of its state,
+             * then its update */
+            const int stages = b->rk_stages;
+            for (int stage = 0; stage < stages; ++stage) {
 #    pragma omp for schedule(static) nowait
                 for (int i = 0; i < n; ++i)
-                    eulerian_rates(i, n, stage, prm, FLUID_ROWS(b), (const real *)b->pair_e,
+                    eulerian_rates(i, n, stage, stages, prm, FLUID_ROWS(b), (const real *)b->pair_e,
                                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
                                    F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
                                    F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
@@ -253,7 +254,7 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
 #    pragma omp for schedule(static) nowait
                 for (int i = 0; i < n; ++i)
                     eulerian_rk_update(
-                        i, n, stage, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
+                        i, n, stage, stages, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
                         F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
                         F_REAL(b, FIELD_MASS_RATE), F_REAL(b, FIELD_MOMENTUM_RATE),
                         F_REAL(b, FIELD_STATE_SAVED) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,

@@ -69,7 +69,7 @@ typedef struct {
     /* fluids only (eulerian_step.cl): once after the rebuild, then per step */
     sph_cl_kernel eulerian_prepare, eulerian_correct_pairs;
     sph_cl_kernel eulerian_momentum_rate, eulerian_mass_energy_rate, eulerian_update;
-    sph_cl_kernel eulerian_rates, eulerian_rk_update; /* time.integrator = "ssp-rk2" */
+    sph_cl_kernel eulerian_rates, eulerian_rk_update; /* time.integrator "ssp-rk2", "ssp-rk3" */
     sph_cl_kernel eulerian_far_field;                 /* far field only */
 } kernel_set;
 
@@ -634,14 +634,16 @@ static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_err
     const int ndt = dt_arg ? 1 : 0;
     sph_status st = SPH_OK;
     if (o->k.eulerian_rk_update.kernel) {
-        /* SSP-RK2: the rates of U^n and the first stage, then of U1 and the
-         * second (eulerian_step.cl) */
-        for (cl_int stage = 0; stage < 2 && !st; ++stage) {
-            sph_cl_arg args[2] = {{"stage", sizeof(cl_int), &stage}};
-            if (dt_arg) args[1] = *dt_arg;
-            st = launch(o, &o->k.eulerian_rates, items, o->item_wg, args, 1, err);
+        /* SSP-RK: per stage the rates of its state, then its update
+         * (eulerian_step.cl) */
+        cl_int stages = o->be->features.fluid_rk_stages;
+        for (cl_int stage = 0; stage < stages && !st; ++stage) {
+            sph_cl_arg args[3] = {{"stage", sizeof(cl_int), &stage},
+                                  {"stages", sizeof(cl_int), &stages}};
+            if (dt_arg) args[2] = *dt_arg;
+            st = launch(o, &o->k.eulerian_rates, items, o->item_wg, args, 2, err);
             if (!st)
-                st = launch(o, &o->k.eulerian_rk_update, items, o->item_wg, args, 1 + ndt, err);
+                st = launch(o, &o->k.eulerian_rk_update, items, o->item_wg, args, 2 + ndt, err);
         }
         if (!st && o->k.eulerian_far_field.kernel)
             st = launch(o, &o->k.eulerian_far_field, items, o->item_wg, NULL, 0, err);
@@ -932,11 +934,11 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
         /* the fluid formulations' passes (eulerian_step.cl) */
         {&o->k.eulerian_prepare, "eulerian_prepare", fluid},
         {&o->k.eulerian_correct_pairs, "eulerian_correct_pairs", fluid},
-        {&o->k.eulerian_momentum_rate, "eulerian_momentum_rate", fluid && !f->fluid_rk2},
-        {&o->k.eulerian_mass_energy_rate, "eulerian_mass_energy_rate", fluid && !f->fluid_rk2},
-        {&o->k.eulerian_update, "eulerian_update", fluid && !f->fluid_rk2},
-        {&o->k.eulerian_rates, "eulerian_rates", fluid && f->fluid_rk2},
-        {&o->k.eulerian_rk_update, "eulerian_rk_update", fluid && f->fluid_rk2},
+        {&o->k.eulerian_momentum_rate, "eulerian_momentum_rate", fluid && !f->fluid_rk},
+        {&o->k.eulerian_mass_energy_rate, "eulerian_mass_energy_rate", fluid && !f->fluid_rk},
+        {&o->k.eulerian_update, "eulerian_update", fluid && !f->fluid_rk},
+        {&o->k.eulerian_rates, "eulerian_rates", fluid && f->fluid_rk},
+        {&o->k.eulerian_rk_update, "eulerian_rk_update", fluid && f->fluid_rk},
         {&o->k.eulerian_far_field, "eulerian_far_field", fluid && f->far_field},
         {&o->k.shear_force, "acoustic_shear_force",
          !tlsph && FORM_HAS_STRESS_DIV((int)f->formulation)},

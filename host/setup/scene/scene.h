@@ -66,8 +66,12 @@ typedef enum { SPH_STEPPING_DUAL = 0, SPH_STEPPING_SINGLE = 1 } sph_stepping;
 typedef enum { SPH_VISCOUS_SQUARED = 0, SPH_VISCOUS_LINEAR = 1 } sph_viscous_regularization;
 /* The fluids' update (time.integrator, device/eulerian_step.cl): the public
  * code's two stages (momentum from the state n, then mass and energy with
- * the new velocity) or SSP-RK2 (Shu & Osher 1988) */
-typedef enum { SPH_FLUID_TWO_STAGE = 0, SPH_FLUID_SSP_RK2 = 1 } sph_fluid_integrator;
+ * the new velocity), SSP-RK2 or SSP-RK3 (Shu & Osher 1988) */
+typedef enum {
+    SPH_FLUID_TWO_STAGE = 0,
+    SPH_FLUID_SSP_RK2 = 1,
+    SPH_FLUID_SSP_RK3 = 2
+} sph_fluid_integrator;
 /* values equal the device's KERNEL_* */
 typedef enum {
     SPH_KERNEL_WENDLAND_C2 = 0,

@@ -219,7 +219,7 @@ sph_status scene_parse_time(loader *L, const config_setting_t *root) {
             "(its default), got \"dual\"",
             sph_formulation_name(sc->formulation));
     sc->stepping = (sph_stepping)stepping;
-    /* the fluids' update: the public code's two stages, or SSP-RK2 */
+    /* the fluids' update: the public code's two stages, SSP-RK2 or SSP-RK3 */
     const config_setting_t *integrator_at = config_setting_get_member(g, "integrator");
     if (integrator_at && !eulerian)
         return scene_fail_at(
