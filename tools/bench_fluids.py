@@ -661,7 +661,8 @@ def markdown(result, args, png_names):
                            "saturated part's figures).")
             if r["n"] == 10 and r.get("end", CYL_END) == CYL_END and r.get("wall_time_s"):
                 met = r["wall_time_s"] <= CYL_TARGET_SECONDS
-                out.append(f"- {KERNEL_LABELS.get(r['kernel'])}, dp = 1/10: {r['wall_time_s']:.0f} s "
+                out.append(f"- {KERNEL_LABELS.get(r['kernel'])}, {integrator_of(r)}, dp = 1/10: "
+                           f"{r['wall_time_s']:.0f} s "
                            f"to t = 300, {CYL_SEED_SECONDS / r['wall_time_s']:.1f}x faster than the "
                            f"seed's {CYL_SEED_SECONDS:g} s on 8 cores; the target "
                            f"<= {CYL_TARGET_SECONDS:g} s is {'met' if met else '**not met**'}.")
