@@ -1002,8 +1002,8 @@ FN real rk_force_keep(const int stage) {
 }
 
 KERNEL void eulerian_rates(
-    ITEM_PARAM const int n, const int stage, const int stages, CONSTANT sph_params *prm,
-    PAIR_ROWS_PARAMS, GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    ITEM_PARAM const int n, const int stage, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
+    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
     GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
     GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
     GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
@@ -1065,7 +1065,6 @@ KERNEL void eulerian_rates(
     (void)wall_visc;
     (void)stage;
 #        endif
-    (void)stages;
     vec_store(momentum_rate, n, i, force);
     mass_rate[i] = R(-2) * w_i * t.mass;
     UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = t.curl.c[a];

@@ -635,7 +635,8 @@ static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_err
     sph_status st = SPH_OK;
     if (o->k.eulerian_rk_update.kernel) {
         /* SSP-RK: per stage the rates of its state, then its update
-         * (eulerian_step.cl) */
+         * (eulerian_step.cl; the rates take the stage, the update also the
+         * number of stages) */
         cl_int stages = o->be->features.fluid_rk_stages;
         for (cl_int stage = 0; stage < stages && !st; ++stage) {
             sph_cl_arg args[3] = {{"stage", sizeof(cl_int), &stage},
