@@ -36,6 +36,9 @@ import subprocess
 import sys
 import tempfile
 
+import h5py
+import numpy as np
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sphtest import (BIN, SANITIZED, SRC, check, finish, run_quiet, run_sphsolid,  # noqa: E402
                      snapshot_paths)
@@ -117,8 +120,6 @@ try:
             check(p.returncode == 0, "native and OpenCL agree to 1e-10: " + p.stdout[-600:])
 
     # 3. a uniform stream through far-field faces stays uniform
-    import h5py
-    import numpy as np
     scene = os.path.join(tmp, "uniform_stream.cfg")
     with open(scene, "w") as f:
         f.write(UNIFORM_STREAM)
