@@ -136,6 +136,8 @@ FN void accumulate_increment(GLOBAL hreal *restrict acc, GLOBAL real *restrict d
  * the positions (000 eqs. 27-29), added to the dissipation acceleration the
  * update applies.  Reads positions and velocities only, so it runs
  * race-free before acoustic_pressure moves them. */
+/* buffers of acoustic_contact: reads step_clock:small nbr_j:int*pairs contact_count pos vel mass
+ * vol material; updates acc_diss */
 KERNEL void acoustic_contact(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                              CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_j,
                              GLOBAL const int *restrict contact_count,
@@ -201,6 +203,9 @@ FN_HOT vec pressure_pair_sum(const int i, const int n, const int cap, const real
     return sum;
 }
 
+/* buffers of acoustic_pressure: reads step_clock:small nbr_count:int*n nbr_j:int*pairs
+ * pair_pos:hreal*d*n pair_e:real*d*pairs pair_dwv:real*pairs rho drho mass vol acc_diss
+ * dacc_shear substep_sums:small body fixed acc_stress material; updates acc_shear pos vel */
 KERNEL void acoustic_pressure(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                               CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
                               GLOBAL const int *restrict nbr_j, PAIR_DIR_PARAMS,
@@ -332,6 +337,10 @@ FN void interface_velocity_terms(const int i, const int n, const int cap, CONSTA
 }
 #endif
 
+/* buffers of acoustic_velocity_terms: reads step_clock:small nbr_count:int*n nbr_j:int*pairs
+ * pair_pos:hreal*d*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs vel mass vol
+ * bmat pos material; writes acc_diss dacc_shear spin gradv art_stress penalty_scale; updates rho
+ * drho tau acc_shear plastic_strain */
 KERNEL void acoustic_velocity_terms(
     ITEM_PARAM const int n, const int cap, STEP_DT_PARAM, CONSTANT sph_params *prm,
     GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,
@@ -541,6 +550,10 @@ KERNEL void acoustic_velocity_terms(
  *   the particles' penalty scales (1, or the J2 return ratio when yielding),
  *   accumulated as a^ = a^ + da (GNOG), R_i a^ + da (per-particle rotation)
  *   or, averaged, Rbar (a^ + da) at the next acoustic_pressure (eq. 47). */
+/* buffers of acoustic_shear_force: reads step_clock:small nbr_count:int*n nbr_j:int*pairs
+ * pair_pos:hreal*d*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs mass vol rho
+ * tau vel gradv art_stress penalty_scale material; writes acc_stress dacc_shear; updates
+ * acc_shear */
 KERNEL void acoustic_shear_force(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                                  CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
                                  GLOBAL const int *restrict nbr_j, PAIR_GEOMETRY_PARAMS,

@@ -548,6 +548,8 @@ FN vec curl_of_wall_pair(const vec curl, const vec v_i, const wall_pair w) {
 /* Once, before the first step: the pressure of the WC state by the EOS, or
  * the total energy and sound speed of the compressible state from its
  * pressure (both particle-local). */
+/* buffers of eulerian_prepare: reads rho vel vol energy_rate; writes energy sound_speed; updates
+ * pressure */
 KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
                              GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel,
                              GLOBAL const real *restrict vol,
@@ -578,6 +580,9 @@ KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
  * (method.viscous_regularization, host/setup/scene.h): the step has no division
  * per pair.
  * g_ji = -g_ij exactly, so the pair terms stay antisymmetric. */
+/* buffers of eulerian_correct_pairs: reads row_start:int*n row_walls:int*n nbr_j:int*pairs
+ * nbr_count:int*n bmat kind normal; updates pair_e:real*d*pairs pair_dwv:real*pairs
+ * pair_inv_r:real*pairs */
 KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, CONSTANT sph_params *prm,
                                    PAIR_ROWS_PARAMS, GLOBAL const real *restrict bmat,
                                    GLOBAL real *restrict pair_e, GLOBAL real *restrict pair_dwv,
@@ -627,6 +632,10 @@ KERNEL void eulerian_correct_pairs(ITEM_PARAM const int n, CONSTANT sph_params *
  * and the viscous force, from the state n), stored as the second stage's
  * velocity v'_i = (m v)^{n+1} / m^n = v_i + dt F_i / m_i (the public code's
  * v^{n+1} = mv / m^n); fixed-state, wall and far-field particles keep v' = v. */
+/* buffers of eulerian_momentum_rate: reads step_clock:small row_start:int*n row_walls:int*n
+ * nbr_j:int*pairs nbr_count:int*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs
+ * rho vel mass vol pressure energy sound_speed fixed kind normal; writes vel_stage; updates
+ * wall_force */
 KERNEL void
 eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
                        PAIR_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
@@ -683,6 +692,10 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
 /* Stage 2: dm_i/dt and d(E w)_i/dt from (rho^n, v', p^n, E^n), and the
  * vorticity of v' (curl v = sum_j (v_j - v_i) x grad'W_ij w_j: 2D its z
  * component, 3D all three). */
+/* buffers of eulerian_mass_energy_rate: reads step_clock:small row_start:int*n row_walls:int*n
+ * nbr_j:int*pairs nbr_count:int*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs
+ * rho vel_stage vol pressure energy sound_speed kind normal; writes mass_rate vorticity
+ * energy_rate */
 KERNEL void eulerian_mass_energy_rate(
     ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
     GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
@@ -950,6 +963,8 @@ FN_HOT void eulerian_mass_energy_pairs(
  * dt (dm/dt) v every step, and a shock tube's waves would run at the wrong
  * speeds: the Sod tube's star state came out p* = 0.189, u* = 1.21 against
  * the exact 0.303, 0.927). */
+/* buffers of eulerian_update: reads step_clock:small vel_stage vol mass_rate energy_rate fixed
+ * kind normal; writes rho pressure sound_speed; updates vel mass energy */
 KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
                             GLOBAL real *restrict vel, GLOBAL const real *restrict vel_stage,
                             GLOBAL real *restrict mass, GLOBAL hreal *restrict rho,
@@ -1043,6 +1058,10 @@ FN vec rk_wall_pairs_force(const vec wall_flux, const vec wall_visc, const real 
 }
 #        endif
 
+/* buffers of eulerian_rates: reads row_start:int*n row_walls:int*n nbr_j:int*pairs
+ * nbr_count:int*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs rho vel vol
+ * pressure energy sound_speed kind normal; writes mass_rate momentum_rate vorticity energy_rate;
+ * updates wall_force */
 KERNEL void eulerian_rates(
     ITEM_PARAM const int n, const int stage, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
     GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
@@ -1109,6 +1128,8 @@ KERNEL void eulerian_rates(
 /* The stage's update of the conserved variables (see eulerian_rates), then
  * rho = m / w, v = (m v) / m, p by the EOS and the ideal gas's sound speed;
  * state_saved holds U^n between the stages (m, m v, E w). */
+/* buffers of eulerian_rk_update: reads step_clock:small vol mass_rate momentum_rate energy_rate
+ * fixed kind normal; writes rho pressure sound_speed; updates vel mass state_saved energy */
 KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, const int stages,
                                STEP_DT_PARAM, CONSTANT sph_params *prm, GLOBAL real *restrict vel,
                                GLOBAL real *restrict mass, GLOBAL hreal *restrict rho,
@@ -1304,6 +1325,8 @@ FN void eulerian_rk_rates_clear(const int i, const int n, const int stage, const
  * velocity is the free stream's on inflow faces and the neighbours' mean on
  * outflow faces; p by the EOS, m = rho w.  It reads interior particles only
  * and writes far-field ones only: race-free. */
+/* buffers of eulerian_far_field: reads row_start:int*n row_walls:int*n nbr_j:int*pairs
+ * nbr_count:int*n pos vol kind normal; updates rho vel mass pressure */
 KERNEL void eulerian_far_field(ITEM_PARAM const int n, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
                                GLOBAL const hreal *restrict pos, GLOBAL hreal *restrict rho,
                                GLOBAL real *restrict vel, GLOBAL real *restrict mass,

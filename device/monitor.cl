@@ -92,6 +92,8 @@ FN void monitor_contrib(const int i, const int n, const int cap, CONSTANT sph_pa
 }
 
 #if SPH_OPENCL
+/* buffers of monitor_reduce: reads nbr_count:int*n nbr_j:int*pairs pos vel vol bmat; writes
+ * partials:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 monitor_reduce(const int n, const int cap, CONSTANT sph_params *prm,
                GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j,

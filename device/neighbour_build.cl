@@ -65,6 +65,7 @@ FN int cell_index_of(const vec x, GLOBAL const real *grid_geom, const int gx, co
 }
 
 /* Keys for the sort; items in [n, npad) pad the power-of-two sort. */
+/* buffers of cell_keys: reads pos vel grid_geom:small; writes keys:ulong*npad */
 KERNEL void cell_keys(ITEM_PARAM const int n, const int npad, GLOBAL const hreal *restrict pos,
                       GLOBAL const real *restrict vel, const real geometry_shift,
                       GLOBAL const real *restrict grid_geom, const int gx, const int gy,
@@ -117,11 +118,23 @@ FN int key_cell(const ulong key) {
         PERMUTE_SLOT(6);                                                                           \
         PERMUTE_SLOT(7);                                                                           \
     }
+/* buffers of permute_real: reads keys:ulong*n src0:host src1:host src2:host src3:host src4:host
+ * src5:host src6:host src7:host; writes dst0:host dst1:host dst2:host dst3:host dst4:host
+ * dst5:host dst6:host dst7:host */
 DEFINE_PERMUTE(permute_real, real)
+/* buffers of permute_int: reads keys:ulong*n src0:host src1:host src2:host src3:host src4:host
+ * src5:host src6:host src7:host; writes dst0:host dst1:host dst2:host dst3:host dst4:host
+ * dst5:host dst6:host dst7:host */
 DEFINE_PERMUTE(permute_int, int)
+/* buffers of permute_u8: reads keys:ulong*n src0:host src1:host src2:host src3:host src4:host
+ * src5:host src6:host src7:host; writes dst0:host dst1:host dst2:host dst3:host dst4:host
+ * dst5:host dst6:host dst7:host */
 DEFINE_PERMUTE(permute_u8, u8)
 #if SPH_MIXED
 /* the history fields of mixed precision (double) */
+/* buffers of permute_hreal: reads keys:ulong*n src0:host src1:host src2:host src3:host src4:host
+ * src5:host src6:host src7:host; writes dst0:host dst1:host dst2:host dst3:host dst4:host
+ * dst5:host dst6:host dst7:host */
 DEFINE_PERMUTE(permute_hreal, hreal)
 #endif
 
@@ -152,6 +165,8 @@ FN void counting_sort_by_cell(const int n, const int ncells, GLOBAL const ulong 
 }
 
 #if SPH_OPENCL && SPH_COUNTING_SORT
+/* buffers of counting_sort: reads keys:ulong*n; writes keys_sorted:ulong*n cell_start:int*cells
+ * cell_end:int*cells */
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void
 counting_sort(const int n, const int gx, const int gy, const int gz,
               GLOBAL const ulong *restrict keys, GLOBAL ulong *restrict keys_sorted,
@@ -207,6 +222,7 @@ FN mat refine_correction(const mat a, const mat b) {
  * the top), in the precision of the positions, once per rebuild after the
  * fields are sorted: build_neighbours and the acoustic passes take every
  * pair's geometry from these same values (sph_pair_geometry.h). */
+/* buffers of shifted_positions: reads pos vel; writes pair_pos:hreal*d*n */
 KERNEL void shifted_positions(ITEM_PARAM const int n, GLOBAL const hreal *restrict pos,
                               GLOBAL const real *restrict vel, const real geometry_shift,
                               GLOBAL hreal *restrict pair_pos) {
@@ -290,6 +306,10 @@ FN int stencil_cells(const int c, const int cells, const bool periodic, int *out
 #    endif
 #endif
 
+/* buffers of build_neighbours: reads pair_pos:hreal*d*n pos vel vol keys:ulong*n
+ * cell_start:int*cells cell_end:int*cells body; writes nbr_count:int*n nbr_j:int*pairs
+ * pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs bmat overflow:small
+ * pair_w:real*pairs contact_count; updates defgrad */
 KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT sph_params *prm,
                              BUILD_POSITION_PARAMS, GLOBAL const real *restrict vol, const int gx,
                              const int gy, const int gz, GLOBAL const ulong *restrict keys,
@@ -431,6 +451,7 @@ KERNEL void build_neighbours(ITEM_PARAM const int n, const int cap, CONSTANT sph
 /* After the bitonic sort: first and one-past-last sorted index of each
  * occupied cell (the ranges of empty cells were zero-filled before; the
  * counting sort writes the ranges itself). */
+/* buffers of cell_ranges: reads keys:ulong*n; writes cell_start:int*cells cell_end:int*cells */
 KERNEL void cell_ranges(ITEM_PARAM const int n, GLOBAL const ulong *restrict keys,
                         GLOBAL int *restrict cell_start, GLOBAL int *restrict cell_end) {
     const int k = ITEM_ID;
@@ -455,6 +476,7 @@ FN void bitonic_compare_local(__local ulong *s, const int lid, const int j, cons
     }
 }
 
+/* buffers of bitonic_local_sort: updates keys:ulong*npad */
 __kernel __attribute__((reqd_work_group_size(SORT_WG, 1, 1))) void
 bitonic_local_sort(GLOBAL ulong *restrict keys) {
     __local ulong s[SORT_WG];
@@ -469,6 +491,7 @@ bitonic_local_sort(GLOBAL ulong *restrict keys) {
     keys[gid] = s[lid];
 }
 
+/* buffers of bitonic_local_merge: updates keys:ulong*npad */
 __kernel __attribute__((reqd_work_group_size(SORT_WG, 1, 1))) void
 bitonic_local_merge(GLOBAL ulong *restrict keys, const int k) {
     __local ulong s[SORT_WG];
@@ -482,6 +505,7 @@ bitonic_local_merge(GLOBAL ulong *restrict keys, const int k) {
     keys[gid] = s[lid];
 }
 
+/* buffers of bitonic_global: updates keys:ulong*npad */
 __kernel void bitonic_global(GLOBAL ulong *restrict keys, const int j, const int k) {
     const int i = get_global_id(0);
     const int partner = i ^ j;

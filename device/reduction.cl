@@ -262,6 +262,7 @@ FN void group_reduce_store(__local real *scratch, const real *c, const int nmax,
             } while (0)
 #    endif
 
+/* buffers of rebuild_reduce: reads pos vel mass rho pressure acc_diss; writes vol partials:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 rebuild_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
@@ -303,6 +304,8 @@ rebuild_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restri
 #        define TORQUE_ARGS 0, 0, 0, 0
 #        define REDUCE_TORQUE_PARAMS
 #    endif
+/* buffers of substep_reduce: reads step_clock:small vel spin body pos mass acc_shear dacc_shear
+ * rho pressure; writes partials:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 substep_reduce(const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
                GLOBAL const real *restrict vel,
@@ -331,6 +334,8 @@ substep_reduce(const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
 #            define DIAG_WALL_PARAM
 #            define DIAG_WALL_ARG 0
 #        endif
+/* buffers of diagnostics_reduce: reads pos vel mass vol pressure energy wall_force; writes
+ * partials:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
@@ -350,6 +355,8 @@ diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *re
 #            define DIAG_DEFGRAD_PARAM
 #            define DIAG_DEFGRAD_ARG 0
 #        endif
+/* buffers of diagnostics_reduce: reads pos vel mass rho tau defgrad material; writes
+ * partials:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 diagnostics_reduce(const int n, CONSTANT sph_params *prm, GLOBAL const hreal *restrict pos,
                    GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
@@ -384,6 +391,7 @@ FN void finalize_rows(__local real *scratch, const int ngroups, const int nmax, 
 #    endif
 }
 
+/* buffers of reduce_finalize: reads partials:small; writes result:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 reduce_finalize(const int ngroups, const int nmax, const int ncomp,
                 GLOBAL const real *restrict partials, GLOBAL real *restrict result) {
@@ -396,6 +404,8 @@ reduce_finalize(const int ngroups, const int nmax, const int ncomp,
  * R-bar) and the step clock's advance on that max |v|^2 (sph_step_clock.h):
  * the next substep's size, or the end of the advection step, decided on the
  * device so that the host need not read max |v|^2 after every substep. */
+/* buffers of substep_finalize: reads partials:small; writes result:small; updates
+ * step_clock:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 substep_finalize(const int ngroups, const int ncomp, GLOBAL const real *restrict partials,
                  GLOBAL real *restrict result, GLOBAL double *restrict step_clock) {
@@ -413,6 +423,8 @@ substep_finalize(const int ngroups, const int ncomp, GLOBAL const real *restrict
  * combines the rows in order, the same sums as substep_finalize whoever
  * does them, advances the clock and resets the counter.  The others read
  * the clock before they count, so they never see it change mid-launch. */
+/* buffers of substep_reduce_finish: reads vel spin body pos mass acc_shear dacc_shear rho
+ * pressure; writes partials:small result:small; updates step_clock:small blocks_done:small */
 __kernel __attribute__((reqd_work_group_size(SPH_WG, 1, 1))) void
 substep_reduce_finish(const int n, const int ngroups, CONSTANT sph_params *prm,
                       GLOBAL const real *restrict vel, GLOBAL real *partials,

@@ -166,6 +166,9 @@ FN real tl_hourglass_modulus(CONSTANT sph_params *prm, const real plastic_strain
 }
 #    endif
 
+/* buffers of tl_deformation: reads step_clock:small nbr_count:int*n nbr_j:int*pairs
+ * pair_e:real*d*pairs pair_dwv:real*pairs pos vel bmat; writes defgrad pk1 rho tau; updates
+ * plastic_strain plastic_cinv */
 KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                            CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
                            GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
@@ -230,6 +233,9 @@ KERNEL void tl_deformation(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
     hsym_store(tau, n, i, sigma);
 }
 
+/* buffers of tl_acceleration: reads step_clock:small nbr_count:int*n nbr_j:int*pairs
+ * pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs pos vel mass vol bmat defgrad
+ * pk1 pair_w:real*pairs plastic_strain; writes acc_shear */
 KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM,
                             CONSTANT sph_params *prm, GLOBAL const int *restrict nbr_count,
                             GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
@@ -330,6 +336,7 @@ KERNEL void tl_acceleration(ITEM_PARAM const int n, const int cap, STEP_DT_PARAM
     hvec_store(acc_shear, n, i, acc);
 }
 
+/* buffers of tl_update: reads step_clock:small acc_shear fixed; updates pos vel */
 KERNEL void tl_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm,
                       GLOBAL const hreal *restrict acc_shear, GLOBAL hreal *restrict pos,
                       GLOBAL real *restrict vel TL_CLAMP_PARAMS) {
