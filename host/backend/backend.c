@@ -153,6 +153,7 @@ sph_status sph_backend_rebuild(sph_backend *be, const sph_rebuild_steps *steps, 
     if ((st = sph_grid_from_bounds(d, info->lower, info->upper, cutoff, be->n, &grid, err)))
         return st;
     sph_grid_make_periodic(&grid, periodic_mask, period);
+    be->grid_cells = grid.ncells;
     if ((st = steps->sort(be, &grid, err))) return st;
     for (;;) {
         int needed = 0;

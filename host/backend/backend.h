@@ -152,6 +152,9 @@ struct sph_backend {
      * half the interval it serves (device/neighbour_build.cl); 0 unless the
      * solver sets it */
     double geometry_shift;
+    /* cells of the last rebuild's grid (the profile's byte counts,
+     * kernel_bytes.h) */
+    long grid_cells;
     int nbuffers;
     sph_buffer_record buffers[SPH_MAX_BUFFER_RECORDS];
     bool profiling;

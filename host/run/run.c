@@ -2,6 +2,7 @@
 
 #include "build_commit.h"
 #include "checkpoint.h"
+#include "kernel_bytes.h"
 #include "output.h"
 #include "snapshot.h"
 #include "wall_clock.h"
@@ -296,7 +297,9 @@ static json_object *resolved_json(const sph_simulation *sim) {
 /* Every string goes in through sph_json_string (output.h): the title, the
  * scene path, the overrides and the resolved text are the user's bytes, and
  * json-c copies bytes that are not UTF-8 into the file unchanged. */
-static json_object *summary_json(const sph_simulation *sim) {
+/* `sizes`: the sizes the kernels' buffer declarations refer to (profiled
+ * runs; NULL: no byte counts in the profile) */
+static json_object *summary_json(const sph_simulation *sim, const sph_bytes_sizes *sizes) {
     const sph_scene *sc = &sim->scene;
     const sph_backend *be = sim->backend;
     json_object *root = json_object_new_object();
@@ -406,9 +409,31 @@ static json_object *summary_json(const sph_simulation *sim) {
             json_object_object_add(o, "phase", sph_json_string(be->profile[k].name));
             json_object_object_add(o, "calls", json_object_new_int64(be->profile[k].calls));
             json_object_object_add(o, "seconds", json_object_new_double(be->profile[k].seconds));
+            /* the bytes one call moves by the kernels' own declarations
+             * (kernel_bytes.h), absent for a phase that is no declared
+             * kernel, and the bandwidth that gives */
+            char kernels[256];
+            const double bytes =
+                sizes ? sph_phase_bytes(be, &be->profile[k], sizes, kernels, sizeof kernels) : -1;
+            if (bytes >= 0) {
+                json_object_object_add(o, "bytes_per_call", json_object_new_double(bytes));
+                json_object_object_add(o, "bytes_of", sph_json_string(kernels));
+                const double s = be->profile[k].seconds;
+                if (s > 0)
+                    json_object_object_add(
+                        o, "gbs",
+                        json_object_new_double(bytes * (double)be->profile[k].calls / s / 1e9));
+            }
             json_object_array_add(prof, o);
         }
         json_object_object_add(root, "profile", prof);
+        if (sizes) {
+            json_object *z = json_object_new_object();
+            json_object_object_add(z, "pair_slots", json_object_new_double(sizes->pair_slots));
+            json_object_object_add(z, "grid_cells", json_object_new_double(sizes->grid_cells));
+            json_object_object_add(z, "padded_particles", json_object_new_double(sizes->padded_n));
+            json_object_object_add(root, "profile_sizes", z);
+        }
     }
 
     json_object_object_add(root, "particle_count", json_object_new_int(sim->particles.n));
@@ -678,8 +703,14 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
             *err = close_err;
             st = cst;
         }
+        /* the profile's byte counts need the last rebuild's neighbour
+         * counts (a download, profiled runs that completed only) */
+        sph_bytes_sizes sizes;
+        const bool counted = sim->backend->profiling && st == SPH_OK;
+        if (counted)
+            st = sph_bytes_sizes_measure(sim->backend, sim->stats.acoustic_steps, &sizes, err);
         if (st == SPH_OK || st == SPH_UNSTABLE) {
-            json_object *summary = summary_json(sim);
+            json_object *summary = summary_json(sim, counted ? &sizes : NULL);
             sph_error werr;
             const sph_status wst =
                 sph_output_write_json(opt->out_dir, "summary.json", summary, &werr);
