@@ -15,9 +15,10 @@ For every case, backend (--backends cpu opencl) and precision (--precisions):
   * a timing run (no --profile): wall time to the end time, particle-substeps per second;
   * a profiled run (--profile): the time of every phase (rebuild, acoustic substep kernels,
     reductions; the rest of the wall time -- host loop, output -- is the remainder), its
-    share, and the achieved bandwidth = estimated bytes the phase must move / its time,
-    against `sphsolid bandwidth` (a copy kernel / OpenMP copy on the same device).  The
-    byte model is an estimate (docs/benchmarks.md, "Bandwidth model").
+    share, and the achieved bandwidth = the bytes `--profile` reports for the phase (from
+    the kernels' own buffer declarations in device/, host/backend/kernel_bytes.c) / its
+    time, against `sphsolid bandwidth` (a copy kernel / OpenMP copy on the same device)
+    (docs/benchmarks.md, "Bandwidth from the kernels' declarations").
 Targets (issue 5): plate H/dp = 10 to 1 s at least 3x faster than the reference code's 18.9 s
 (2 cores, native, double); H/dp = 30 to 1 s against 000 Table 2's 130.1 s on 32 cores; pocl
 within 1.5x of the native backend.
@@ -42,7 +43,6 @@ from bench_core import (BIN, PAPER_WALL, PLATE, PRECISIONS,  # noqa: E402
                         REFERENCE_CODE_H10_SECONDS, ROOT, environment)
 
 SPINNING = os.path.join(ROOT, "cases", "spinning_plate_2d", "scene.cfg")
-DEVICE_DIR = os.path.join(ROOT, "device")
 PLATE_3D = os.path.join(ROOT, "cases", "oscillating_plate_3d", "scene.cfg")
 PLATE_3D_THICKNESS = 0.01  # m (cases/oscillating_plate_3d): dp = thickness / (H/dp)
 # 3D plate, mode (m,n) = (2,2), to t = 0.1 s: 000 Table 4 (32 cores, dual-criteria stepping)
@@ -77,206 +77,6 @@ def phase_group(name):
     if name in SUBSTEP_PHASES:
         return GROUP_SUBSTEP
     return GROUP_REBUILD  # cell keys, sort, permutation, cell ranges, neighbour build
-
-
-# ---- the bandwidth model ---------------------------------------------------------------------
-# Per-slot arrays of the neighbour lists (frozen pair geometry): bytes per slot.
-SLOT_ARRAYS = ("nbr_j", "pair_e", "pair_dwv", "pair_inv_r", "pair_w")
-# Non-const arguments that a kernel only writes (counted once); every other non-const
-# argument is counted as read and written (an upper bound).  Keep in step with device/.
-WRITE_ONLY = {
-    "cell_keys": {"keys"}, "cell_ranges": {"cell_start", "cell_end"},
-    "counting_sort": {"keys_sorted", "cell_start"},
-    "build_neighbours": {"nbr_count", "nbr_j", "pair_e", "pair_dwv", "pair_inv_r", "pair_w",
-                         "bmat", "overflow", "contact_count"},
-    "shifted_positions": {"pair_pos"},
-    "acoustic_velocity_terms": {"acc_diss", "spin", "gradv", "art_stress", "penalty_scale",
-                                "dacc_shear"},
-    "acoustic_shear_force": {"acc_stress", "dacc_shear"},
-    "tl_deformation": {"defgrad", "pk1", "rho", "tau"}, "tl_acceleration": {"acc_shear"},
-    "rebuild_reduce": {"vol", "partials"}, "substep_reduce": {"partials"},
-    "diagnostics_reduce": {"partials"}, "monitor_reduce": {"partials"},
-    "reduce_finalize": {"result"}, "substep_finalize": {"result"},
-    "substep_reduce_finish": {"partials", "result"},
-}
-# Arguments a kernel does not touch with averaged rotation (003 eq. 42: the increment waits
-# in dacc_shear; a^s is rotated in acoustic_pressure).
-UNTOUCHED_AVERAGED = {"acoustic_velocity_terms": {"acc_shear"},
-                      "acoustic_shear_force": {"acc_shear"}}
-TYPE_BYTES = {"int": 4, "uint": 4, "ulong": 8, "u8": 1, "uchar": 1, "float": 4, "double": 8}
-
-
-def kernel_signatures(device_dir=DEVICE_DIR):
-    """{kernel: {arg: (const, type)}} for every global-pointer argument of every kernel in
-    device/, with the feature macros (..._PARAMS) expanded to all their definitions."""
-    text = ""
-    for name in sorted(os.listdir(device_dir)):
-        if name.endswith((".cl", ".h")):
-            with open(os.path.join(device_dir, name)) as f:
-                text += f.read() + "\n"
-    text = re.sub(r"\\\n", " ", text)
-    macros = {}
-    for m in re.finditer(r"^[ \t]*#[ \t]*define[ \t]+(\w+_PARAMS)\b(.*)$", text, re.M):
-        macros.setdefault(m.group(1), []).append(m.group(2))
-    sigs = {}
-    head = re.compile(r"\b(?:KERNEL|__kernel)\b(?:\s+__attribute__\s*\(\(.*?\)\))?\s+void\s+"
-                      r"(\w+)\s*\(")
-    arg = re.compile(r"\b(?:GLOBAL|__global)\s+(const\s+)?(\w+)\s*\*\s*(?:restrict\s+)?(\w+)")
-    for m in head.finditer(text):
-        depth, k = 1, m.end()
-        while k < len(text) and depth:
-            depth += {"(": 1, ")": -1}.get(text[k], 0)
-            k += 1
-        params = text[m.end():k - 1]
-        for _ in range(3):
-            params = re.sub(r"\b(\w+_PARAMS)\b", lambda x: " ".join(macros.get(x.group(1), [])),
-                            params)
-        args = sigs.setdefault(m.group(1), {})
-        for a in arg.finditer(params):
-            const, typ, name = bool(a.group(1)), a.group(2), a.group(3)
-            old = args.get(name)
-            args[name] = (const and (old is None or old[0]), typ)
-    if "name" in sigs:  # DEFINE_PERMUTE(permute_real, real) ...
-        for p in ("permute_real", "permute_hreal", "permute_int", "permute_u8"):
-            sigs.setdefault(p, sigs["name"])
-    return sigs
-
-
-def mean_neighbour_count(run_dir, cutoff):
-    """Mean number of neighbours (r < cutoff, self excluded) at the first snapshot, counted
-    with numpy (all particles up to 20000, else a sample of 4000), each row against the slab
-    of particles within the cut-off in x (sorted once); None without a snapshot."""
-    path = os.path.join(run_dir, "snapshots", "snapshot_000000.hdf")
-    try:
-        import h5py
-        import numpy as np
-        with h5py.File(path, "r") as f:
-            x = np.asarray(f["VTKHDF/Points"][...], dtype=float)
-    except (ImportError, OSError, KeyError):
-        return None
-    n = len(x)
-    rows = np.arange(n) if n <= 20000 else np.random.default_rng(1).choice(n, 4000, False)
-    xs = x[np.argsort(x[:, 0], kind="stable")]
-    lo = np.searchsorted(xs[:, 0], x[rows, 0] - cutoff, side="left")
-    hi = np.searchsorted(xs[:, 0], x[rows, 0] + cutoff, side="right")
-    total = 0
-    for r, a, b in zip(rows, lo, hi):
-        d2 = ((xs[a:b] - x[r]) ** 2).sum(axis=1)
-        total += int(((d2 < cutoff * cutoff) & (d2 > 0)).sum())
-    return total / len(rows)
-
-
-INT_FIELDS, U8_FIELDS = ("id", "contact_count"), ("fixed", "body", "material")  # host/model/fields.c
-# history fields (host/model/fields.c, FIELD_TYPE_HREAL): double in mixed precision
-HREAL_FIELDS = ("pos", "rho", "tau", "acc_shear")
-
-
-def buffer_sizes(summary):
-    """Bytes per particle of each particle field (the arrays the rebuild permutes) and the
-    sizes of the other buffers, from summary.json's memory records: OpenCL records a field
-    and its reorder copy separately, the native backend as one record of twice the size (and
-    its neighbour lists as one record, sized here from the slot layout instead)."""
-    n = summary["particle_count"]
-    recs = {r["name"]: r["bytes"] for r in summary["memory"]["buffers"]}
-    if summary["backend"] == "cpu":
-        fields = {k: v / n / 2 for k, v in recs.items() if not k.startswith("neighbour lists")}
-        return fields, {}
-    copies = {k[:-len(" (reorder copy)")] for k in recs if k.endswith(" (reorder copy)")}
-    fields = {k: recs[k] / n for k in copies if k in recs}
-    other = {k: v for k, v in recs.items() if k not in copies and not k.endswith(")")}
-    return fields, other
-
-
-def bandwidth_model(summary, neighbours, sigs):
-    """Estimated bytes moved per call of each profiled phase: {phase: (bytes_per_call, note)}."""
-    n = summary["particle_count"]
-    dim = summary["features"]["dimension"]
-    real = 8 if summary["precision"] == "double" else 4
-    averaged = summary["features"]["rotation"] == "averaged"
-    fields, other = buffer_sizes(summary)
-    slot_bytes = {"nbr_j": 4, "pair_e": dim * real, "pair_dwv": real, "pair_inv_r": real,
-                  "pair_w": real}
-    tlsph = summary["features"]["formulation"] == "tlsph"
-    kernels_here = None
-    if summary.get("program_kernels"):
-        kernels_here = {k.split("(")[0]: [a.strip() for a in k.split("(", 1)[1].rstrip(")")
-                                          .split(",")] for k in summary["program_kernels"]}
-    keys_bytes = other.get("keys", 8 * n)
-    cell_bytes = {c: other.get(c, 4 * n) for c in ("cell_start", "cell_end")}
-
-    def arg_bytes(kernel, name, typ):
-        if name in fields:
-            return fields[name] * n
-        if name in SLOT_ARRAYS:
-            if name == "pair_w" and not tlsph:
-                return 0.0
-            return n * neighbours * slot_bytes[name]
-        if name == "keys":
-            return keys_bytes
-        if name in cell_bytes:
-            return cell_bytes[name]
-        if name == "nbr_count":
-            return other.get(name, 4 * n)
-        return other.get(name, 0.0)
-
-    def kernel_bytes(kernel):
-        args = sigs.get(kernel, {})
-        present = kernels_here.get(kernel) if kernels_here else None
-        total = 0.0
-        for name, (const, typ) in args.items():
-            if present is not None and name not in present:
-                continue
-            if averaged and name in UNTOUCHED_AVERAGED.get(kernel, ()):
-                continue
-            b = arg_bytes(kernel, name, typ)
-            total += b if const or name in WRITE_ONLY.get(kernel, ()) else 2 * b
-        return total
-
-    def permute_bytes(kinds):
-        # every field once per rebuild (up to 8 per launch): keys + field read (gathered)
-        # + field written
-        return sum(keys_bytes + 2 * fields[f] * n for f in fields if field_kind(f) in kinds)
-
-    mixed = summary["precision"] == "mixed"
-
-    def field_kind(f):
-        # mixed precision permutes the double history fields with permute_hreal
-        if mixed and f in HREAL_FIELDS:
-            return "hreal"
-        return "int" if f in INT_FIELDS else "u8" if f in U8_FIELDS else "real"
-
-    model = {}
-    prof = {p["phase"]: p for p in summary.get("profile", [])}
-    rebuilds = max(prof.get("build_neighbours", {}).get("calls", 1), 1)
-    for phase, p in prof.items():
-        calls = max(p["calls"], 1)
-        if phase.startswith("permute_"):
-            kind = phase.split("_", 1)[1]
-            model[phase] = (permute_bytes({kind}) * rebuilds / calls,
-                            f"keys + {kind} fields gathered and written")
-        elif phase == "cell sort and permutation":  # native: keys, counting sort, permute
-            sort = 3 * keys_bytes + 2 * (cell_bytes["cell_start"] + cell_bytes["cell_end"])
-            model[phase] = (kernel_bytes("cell_keys") + sort
-                            + permute_bytes({"real", "hreal", "int", "u8"}),
-                            "cell keys, counting sort, permutation of every field")
-        elif phase.startswith("bitonic"):
-            model[phase] = (2 * keys_bytes, "keys read and written")
-        elif phase == "acoustic substep":  # native: the substep kernels fused in one phase
-            if tlsph:
-                ks = ["tl_deformation", "tl_acceleration", "tl_update"]
-            else:
-                ks = ["acoustic_pressure", "acoustic_velocity_terms"]
-                if summary["formulation"] in ("og", "oas", "gnog", "gnog-a"):
-                    ks.append("acoustic_shear_force")
-                if "contact_count" in fields:
-                    ks.insert(0, "acoustic_contact")
-            ks.append("substep_reduce")
-            model[phase] = (sum(kernel_bytes(k) for k in ks), " + ".join(ks))
-        elif phase in sigs:
-            model[phase] = (kernel_bytes(phase), "kernel arguments")
-        else:
-            model[phase] = (None, "no model")
-    return model
 
 
 # ---- running -------------------------------------------------------------------------------
@@ -328,26 +128,32 @@ def peak_bandwidth(backend, device, size_mb):
     return json.loads(p.stdout)
 
 
-def analyse(timing, prof, sigs, peak):
-    """One result row: timing-run figures, and the profiled run's phases and groups."""
+def analyse(timing, prof, peak):
+    """One result row: timing-run figures, and the profiled run's phases and groups.  The
+    bytes of a phase are those `--profile` reports (summary.json: bytes_per_call, from the
+    kernels' own buffer declarations, host/backend/kernel_bytes.c); a group's bandwidth is
+    that of its phases with bytes (their bytes over their time)."""
     cutoff = prof["resolved"]["cutoff"]
-    nbrs = prof.get("_neighbours")
-    model = bandwidth_model(prof, nbrs, sigs) if nbrs else {}
+    sizes = prof.get("profile_sizes") or {}
+    nbrs = sizes["pair_slots"] / prof["particle_count"] if "pair_slots" in sizes else None
     wall = prof["wall_time_s"]
     peak_gbs = peak["best_gbs"] if peak else None
     phases, groups = [], {}
     for p in prof.get("profile", []):
-        per_call, note = model.get(p["phase"], (None, "no snapshot for the neighbour count"))
+        per_call = p.get("bytes_per_call")
         b = per_call * p["calls"] if per_call is not None else None
         row = {"phase": p["phase"], "group": phase_group(p["phase"]), "calls": p["calls"],
                "seconds": p["seconds"], "share": p["seconds"] / wall, "bytes": b,
-               "model": note}
+               "model": p.get("bytes_of", "no declared kernel")}
         row["gbs"] = b / p["seconds"] / 1e9 if b is not None and p["seconds"] > 0 else None
         row["fraction_of_peak"] = row["gbs"] / peak_gbs if row["gbs"] and peak_gbs else None
         phases.append(row)
-        g = groups.setdefault(row["group"], {"group": row["group"], "seconds": 0.0, "bytes": 0.0})
+        g = groups.setdefault(row["group"], {"group": row["group"], "seconds": 0.0,
+                                             "bytes": None, "seconds_with_bytes": 0.0})
         g["seconds"] += p["seconds"]
-        g["bytes"] = None if g["bytes"] is None or b is None else g["bytes"] + b
+        if b is not None:
+            g["bytes"] = (g["bytes"] or 0.0) + b
+            g["seconds_with_bytes"] += p["seconds"]
     profiled = sum(g["seconds"] for g in groups.values())
     groups[GROUP_OTHER] = {"group": GROUP_OTHER, "seconds": max(wall - profiled, 0.0),
                            "bytes": None}
@@ -358,7 +164,8 @@ def analyse(timing, prof, sigs, peak):
             continue
         g = groups[name]
         g["share"] = g["seconds"] / wall
-        g["gbs"] = g["bytes"] / g["seconds"] / 1e9 if g["bytes"] and g["seconds"] > 0 else None
+        counted = g.get("seconds_with_bytes", 0.0)
+        g["gbs"] = g["bytes"] / counted / 1e9 if g["bytes"] and counted > 0 else None
         g["fraction_of_peak"] = g["gbs"] / peak_gbs if g["gbs"] and peak_gbs else None
         glist.append(g)
     return {
@@ -470,10 +277,11 @@ def markdown(result):
                      f"{p['paper_32_core_s']} s on 32 cores | | | | | |")
     lines.append("")
     lines.append("Shares are of the profiled run's wall time (profiling serialises the OpenCL "
-                 "queue). Achieved bandwidth = estimated bytes / phase time (an estimate: "
-                 "docs/benchmarks.md, \"Bandwidth model\"):")
+                 "queue). Achieved bandwidth = declared bytes / phase time (the kernels' "
+                 "buffer declarations, docs/benchmarks.md, \"Bandwidth from the kernels' "
+                 "declarations\"; a group's over its phases with bytes):")
     lines.append("")
-    lines.append("| case | backend | precision | phase | calls | time (s) | share | est. MB moved "
+    lines.append("| case | backend | precision | phase | calls | time (s) | share | MB moved "
                  "| GB/s | % of copy peak |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|")
     for r in result["cases"]:
@@ -535,7 +343,6 @@ def main():
     if env["omp_wait_policy"].lower() == "passive":
         print("bench: OMP_WAIT_POLICY=passive: the native backend's team sleeps between its "
               "rebuild loops (docs/backends.md)", file=sys.stderr)
-    sigs = kernel_signatures()
     peak = {b: peak_bandwidth(b, args.device, args.bandwidth_mb) for b in args.backends}
     for b, p in peak.items():
         print(f"peak {b}: {p['best_gbs']:.2f} GB/s ({p['device']})", flush=True)
@@ -558,15 +365,13 @@ def main():
                     tag = re.sub(r"[^A-Za-z0-9.=-]+", "_", f"{case}-{backend}-{precision}")
                     prof = run_case(scene, sets, backend, args.device, precision,
                                     os.path.join(tmp, tag + "-profile"), True)
-                    prof["_neighbours"] = mean_neighbour_count(os.path.join(tmp, tag + "-profile"),
-                                                               prof["resolved"]["cutoff"])
                     timing = prof if args.single_run else run_case(
                         scene, sets, backend, args.device, precision,
                         os.path.join(tmp, tag + "-timing"), False)
                     row = {"case": case, "end_time": end, "backend": backend,
                            "precision": precision, "formulation": timing["formulation"],
                            "timing_from_profiled_run": args.single_run}
-                    row.update(analyse(timing, prof, sigs, peak.get(backend)))
+                    row.update(analyse(timing, prof, peak.get(backend)))
                     rows.append(row)
                     shares = ", ".join(f"{g['group']} {100 * g['share']:.0f} %"
                                        for g in row["profiled_run"]["groups"])
@@ -580,12 +385,13 @@ def main():
     env["load_average_end"] = loadavg()
     result = {"benchmark": "bench", "label": args.label, "environment": env,
               "peak_bandwidth": peak,
-              "bandwidth_model": "estimated bytes a phase must move: every global buffer "
-                                 "argument of its kernels once per call (n x bytes per "
-                                 "particle; neighbour-list arrays n x mean neighbours x bytes "
-                                 "per slot), read-only arguments once, written-only once, "
-                                 "read-and-written twice; neighbour gathers assumed to hit "
-                                 "cache (docs/benchmarks.md)",
+              "bandwidth_model": "bytes a phase moves as `--profile` reports them: every "
+                                 "global buffer its kernels declare (device/*.cl, 'buffers of "
+                                 "NAME: reads ...; writes ...; updates ...') once per call over "
+                                 "its extent in this run (n x bytes per particle; per-pair arrays "
+                                 "x the pair slots of the last rebuild), read-only and write-only "
+                                 "once, read-and-written twice, absent buffers zero; neighbour "
+                                 "gathers assumed to hit cache (docs/benchmarks.md)",
               "cases": rows, "pending": pending_3d(args.plate3d_ratios),
               "targets": targets(rows, args.plate_end)}
     result["markdown"] = markdown(result)
