@@ -54,8 +54,11 @@ sph_status sph_backend_advance_by_substeps(sph_backend *be, double *clock, long 
 }
 
 sph_status sph_backend_advance(sph_backend *be, double *clock, long limit, sph_error *err) {
-    return be->ops->advance ? be->ops->advance(be, clock, limit, err)
-                            : sph_backend_advance_by_substeps(be, clock, limit, err);
+    const double before = clock[CLOCK_COUNT];
+    const sph_status st = be->ops->advance ? be->ops->advance(be, clock, limit, err)
+                                           : sph_backend_advance_by_substeps(be, clock, limit, err);
+    be->substeps += (long)(clock[CLOCK_COUNT] - before);
+    return st;
 }
 
 void sph_backend_profile_add(sph_backend *be, const char *name, double seconds) {

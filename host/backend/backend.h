@@ -155,6 +155,9 @@ struct sph_backend {
     /* cells of the last rebuild's grid (the profile's byte counts,
      * kernel_bytes.h) */
     long grid_cells;
+    /* acoustic substeps this backend has run (sph_backend_advance): a
+     * resumed run's profile covers these, not the checkpoint's earlier ones */
+    long substeps;
     int nbuffers;
     sph_buffer_record buffers[SPH_MAX_BUFFER_RECORDS];
     bool profiling;

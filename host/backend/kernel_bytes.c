@@ -23,12 +23,11 @@
 
 typedef enum { ACCESS_NONE, ACCESS_READ, ACCESS_WRITE, ACCESS_UPDATE } access_kind;
 
-sph_status sph_bytes_sizes_measure(sph_backend *be, long acoustic_steps, sph_bytes_sizes *out,
-                                   sph_error *err) {
+sph_status sph_bytes_sizes_measure(sph_backend *be, sph_bytes_sizes *out, sph_error *err) {
     out->pair_slots = 0.0;
     out->grid_cells = (double)be->grid_cells;
     out->padded_n = (double)be->n;
-    out->acoustic_steps = acoustic_steps;
+    out->substeps = be->substeps;
     /* the sort's keys hold npad entries on OpenCL (a power of two for the
      * bitonic sort); the native backend keeps n and records no "keys" */
     for (int k = 0; k < be->nbuffers; ++k)
@@ -257,7 +256,7 @@ double sph_phase_bytes(const sph_backend *be, const sph_profile_record *rec,
             per_substep += b;
         }
         for (int k = 0; k < nk; ++k) append(kernels, cap, list[k]);
-        return per_substep * (double)sizes->acoustic_steps / (double)rec->calls;
+        return per_substep * (double)sizes->substeps / (double)rec->calls;
     }
     /* diagnostics_reduce has two definitions (fluids, solids): the native
      * backend's phase cannot say which by its arguments */

@@ -20,16 +20,15 @@
 
 /* The sizes the declarations' shapes refer to besides n and d. */
 typedef struct {
-    double pair_slots;   /* "pairs": the neighbour slots the pair loops traverse,
-                            the sum of the neighbour counts of the last rebuild */
-    double grid_cells;   /* "cells": the cells of the last rebuild's grid */
-    double padded_n;     /* "npad": the sort's padded length (OpenCL), else n */
-    long acoustic_steps; /* the run's substeps (the native fused substep phase) */
+    double pair_slots; /* "pairs": the neighbour slots the pair loops traverse,
+                          the sum of the neighbour counts of the last rebuild */
+    double grid_cells; /* "cells": the cells of the last rebuild's grid */
+    double padded_n;   /* "npad": the sort's padded length (OpenCL), else n */
+    long substeps;     /* the substeps profiled (the native fused substep phase) */
 } sph_bytes_sizes;
 
 /* Measure the sizes at the end of a run: downloads the neighbour counts. */
-sph_status sph_bytes_sizes_measure(sph_backend *be, long acoustic_steps, sph_bytes_sizes *out,
-                                   sph_error *err);
+sph_status sph_bytes_sizes_measure(sph_backend *be, sph_bytes_sizes *out, sph_error *err);
 
 /* Bytes one call of the profiled phase `rec` moves, or -1 where the phase is
  * no declared kernel (host reads) or its sizes are chosen per launch by the

@@ -707,8 +707,7 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
          * counts (a download, profiled runs that completed only) */
         sph_bytes_sizes sizes;
         const bool counted = sim->backend->profiling && st == SPH_OK;
-        if (counted)
-            st = sph_bytes_sizes_measure(sim->backend, sim->stats.acoustic_steps, &sizes, err);
+        if (counted) st = sph_bytes_sizes_measure(sim->backend, &sizes, err);
         if (st == SPH_OK || st == SPH_UNSTABLE) {
             json_object *summary = summary_json(sim, counted ? &sizes : NULL);
             sph_error werr;
