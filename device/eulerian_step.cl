@@ -1037,27 +1037,6 @@ FN real rk_force_keep(const int stage) {
     return stage == 0 ? R(0) : stage == 1 ? R(0.5) : R(1) / R(3);
 }
 
-#        if SPH_FLUID_WALLS
-/* The wall pairs' share of F_i at a stage (wall_pairs_force's pressure and
- * viscous parts); wall_force keeps their weighted mean over the step's
- * stages so far (rk_force_keep). */
-FN vec rk_wall_pairs_force(const vec wall_flux, const vec wall_visc, const real w_i, const real mu,
-                           const int stage, const int i, const int n,
-                           GLOBAL real *restrict wall_force) {
-    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
-    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
-    if (PRESENT(wall_force)) {
-        const real keep = rk_force_keep(stage), add = R(1) - keep;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
-            wall_force[(SPH_DIM + a) * n + i] =
-                keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
-        }
-    }
-    return vec_add(wall_p, wall_v);
-}
-#        endif
-
 /* buffers of eulerian_rates: reads row_start:int*n row_walls:int*n nbr_j:int*pairs
  * nbr_count:int*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs rho vel vol
  * pressure energy sound_speed kind normal; writes mass_rate momentum_rate vorticity energy_rate;
@@ -1110,8 +1089,17 @@ KERNEL void eulerian_rates(
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
-    force =
-        vec_add(force, rk_wall_pairs_force(wall_flux, wall_visc, w_i, mu, stage, i, n, wall_force));
+    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
+    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
+    if (PRESENT(wall_force)) {
+        const real keep = rk_force_keep(stage), add = R(1) - keep;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
+            wall_force[(SPH_DIM + a) * n + i] =
+                keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
+        }
+    }
+    force = vec_add(force, vec_add(wall_p, wall_v));
 #        else
     (void)wall_flux;
     (void)wall_visc;
@@ -1183,135 +1171,6 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, const in
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
 #        endif
 }
-
-#        if !SPH_OPENCL
-/* SSP-RK's rate pass with each fluid pair summed once (the native backend;
- * the two-stage passes' rows and blocks, "The native backend's two-stage
- * passes sum each fluid pair once" above): row i's fluid pairs
- * k_begin <= k < k_end, then its wall pairs k_end <= k < walls_end, solved
- * once each, the momentum, mass and energy rates of eulerian_rates added to
- * i's sums and subtracted from j's.  The sums start from the zeros
- * eulerian_rk_rates_clear left.  The vorticity is summed at the last stage
- * only (with_curl): it is that of the last stage's state, as eulerian_rates
- * leaves it. */
-FN_HOT void eulerian_rates_pairs(
-    const int i, const int n, const int k_begin, const int k_end, const int walls_end,
-    const int stage, const bool with_curl, CONSTANT sph_params *prm, ONCE_ROWS_PARAMS,
-    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-    GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
-    GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
-    GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
-    GLOBAL real *restrict momentum_rate,
-    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS WALL_FORCE_PARAM) {
-    /* a wall particle's row holds no fluid pair it sums (build_once_rows) */
-    if (IS_WALL(i)) return;
-    const int stride = ROWS_STRIDE;
-    const real mu = prm->materials[0].viscosity;
-    const fluid_solver solver = fluid_solver_make(prm);
-    const vec v_i = vec_load(vel, n, i);
-    const fluid_point q_i = FLUID_POINT(i, v_i);
-    const real w_i = vol[i];
-    lanes lane_force[SPH_DIM], lane_mass = lanes_zero(), lane_energy = lanes_zero(), lane_curl[3];
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] = lanes_zero();
-    UNROLL for (int a = 0; a < 3; ++a) lane_curl[a] = lanes_zero();
-    const int lanes_end = k_end;
-    for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        lanes inv_r;
-        PAIR_LANES_STATES(&inv_r, vel, NO_WALL_PAIR);
-        const lanes vn = lanes_dot(s.v, e);
-        /* -2 w_i dW w_j, as eulerian_momentum_pairs and eulerian_mass_energy_pairs */
-        const lanes weight = R(-2) * w_i * dwv * keep;
-        lanes f[SPH_DIM];
-        lanes_vec dv;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            dv.c[a] = q.v.c[a] - v_i.c[a];
-            f[a] = weight * (fluid_momentum_flux_lanes(s, vn, e, a) + mu * inv_r * dv.c[a]);
-            lane_force[a] += f[a];
-        }
-        const lanes mass_term = weight * (s.rho * vn);
-        lane_mass += mass_term;
-#            if SPH_HAS_COMPRESSIBLE
-        lanes_vec v_mean;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
-        const lanes energy_term =
-            weight * ((s.energy + s.p) * vn + mu * inv_r * lanes_dot(dv, v_mean));
-        lane_energy += energy_term;
-#            else
-        const lanes energy_term = lanes_zero();
-#            endif
-        const int live = lanes_end - k0 < SPH_PAIR_LANES ? lanes_end - k0 : SPH_PAIR_LANES;
-        lanes cross[3], dw_i = lanes_zero();
-        UNROLL for (int a = 0; a < 3; ++a) cross[a] = lanes_zero();
-        if (with_curl) {
-            /* e x (v_j - v_i): i's curl takes it times dW w_j, j's times dW w_i */
-            curl_add_lanes(cross, e, dv);
-            real w_s[SPH_PAIR_LANES];
-            UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) w_s[l] =
-                l < live ? vol[nbr_j[ROW_SLOT(i, k0 + l)]] : w_i;
-            const lanes dwv_k = dwv * keep;
-            dw_i = dwv_k * (w_i / LANES_FROM(w_s));
-            UNROLL for (int a = 0; a < NSPIN; ++a) lane_curl[a] += dwv_k * cross[a];
-        }
-        for (int l = 0; l < live; ++l) {
-            const int j = nbr_j[ROW_SLOT(i, k0 + l)];
-            UNROLL for (int a = 0; a < SPH_DIM; ++a) momentum_rate[a * n + j] -= LANE(f[a], l);
-            mass_rate[j] -= LANE(mass_term, l);
-#            if SPH_HAS_COMPRESSIBLE
-            energy_rate[j] -= LANE(energy_term, l);
-#            endif
-            if (with_curl)
-                UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + j] +=
-                    LANE(dw_i, l) * LANE(cross[a], l);
-        }
-        (void)energy_term;
-    }
-    vec force = vec_zero(), curl = vec_zero();
-    real mass_sum = R(0), energy_sum = R(0);
-    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) force.c[a] += LANE(lane_force[a], l);
-        mass_sum += LANE(lane_mass, l);
-        energy_sum += LANE(lane_energy, l);
-        UNROLL for (int a = 0; a < NSPIN; ++a) curl.c[a] += LANE(lane_curl[a], l);
-    }
-    if (walls_end > k_end) {
-        /* the wall pairs, as eulerian_rates': no mass or energy crosses them */
-        vec wall_flux = vec_zero(), wall_visc = vec_zero(), wall_curl = vec_zero();
-        for (int k = k_end; k < walls_end; ++k) {
-            const int slot = ROW_SLOT(i, k);
-            const wall_pair w = WALL_PAIR_ARGS(slot, nbr_j[slot]);
-            momentum_wall_pair(solver, q_i, w, &wall_flux, &wall_visc);
-            wall_curl = curl_of_wall_pair(wall_curl, v_i, w);
-        }
-        force = vec_add(
-            force, rk_wall_pairs_force(wall_flux, wall_visc, w_i, mu, stage, i, n, wall_force));
-        if (with_curl) curl = vec_add(curl, wall_curl);
-    }
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) momentum_rate[a * n + i] += force.c[a];
-    mass_rate[i] += mass_sum;
-    if (with_curl) UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] += curl.c[a];
-#            if SPH_HAS_COMPRESSIBLE
-    energy_rate[i] += energy_sum;
-#            else
-    (void)energy_sum;
-#            endif
-}
-
-/* After a stage's update of particle i (eulerian_rk_update has read its
- * rates): its rate sums back to zero for the next stage's
- * eulerian_rates_pairs, and its vorticity too before the last stage's. */
-FN void eulerian_rk_rates_clear(const int i, const int n, const int stage, const int stages,
-                                GLOBAL real *restrict mass_rate,
-                                GLOBAL real *restrict momentum_rate,
-                                GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS) {
-    mass_rate[i] = R(0);
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) momentum_rate[a * n + i] = R(0);
-#            if SPH_HAS_COMPRESSIBLE
-    (void)energy;
-    energy_rate[i] = R(0);
-#            endif
-    if (stage == stages - 2) UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = R(0);
-}
-#        endif /* !SPH_OPENCL */
 #    endif
 
 #    if SPH_FAR_FIELD

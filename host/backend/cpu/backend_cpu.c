@@ -362,10 +362,9 @@ static int once_part(const uint8_t *kind, int32_t i, int32_t j, int block) {
     return j / block <= i / block + 1 ? 0 : 1;
 }
 
-/* Fluids: the rows of pairs summed once (cpu_buffers, eulerian_step.cl),
- * copied from the packed rows after fluid_setup has corrected their
- * gradients; the two stages' momentum sums in force_sum (SSP-RK sums into
- * its momentum-rate field). */
+/* Fluids with the two stages: the rows of pairs summed once (cpu_buffers,
+ * eulerian_step.cl), copied from the packed rows after fluid_setup has
+ * corrected their gradients. */
 static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) {
     const size_t n = (size_t)be->n, dim = (size_t)be->features.dim, esize = c->real_size;
     const size_t total = (size_t)c->b.row_start[n];
@@ -406,10 +405,8 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
     b->once_dwv = calloc(alloc, esize);
     b->once_inv_r = calloc(alloc, esize);
     b->far_rows = malloc((nfar_rows ? (size_t)nfar_rows : 1) * sizeof(int32_t));
-    const bool two_stage = !b->field[FIELD_MOMENTUM_RATE];
-    if (two_stage) b->force_sum = calloc(n * dim, esize);
-    if (!b->once_j || !b->once_e || !b->once_dwv || !b->once_inv_r || !b->far_rows ||
-        (two_stage && !b->force_sum))
+    b->force_sum = calloc(n * dim, esize);
+    if (!b->once_j || !b->once_e || !b->once_dwv || !b->once_inv_r || !b->far_rows || !b->force_sum)
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     b->nfar_rows = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -441,7 +438,7 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
     }
     sph_backend_record_buffer(be, "fluid pairs summed once",
                               (n * 4 + 1 + slots + (size_t)nfar_rows) * sizeof(int32_t) +
-                                  slots * (dim + 2) * esize + (two_stage ? n * dim * esize : 0));
+                                  slots * (dim + 2) * esize + n * dim * esize);
     return SPH_OK;
 }
 
@@ -505,7 +502,8 @@ static sph_status cpu_rebuild_finish(sph_backend *be, sph_error *err) {
     sph_status st = pack_pair_rows(be, c, err);
     if (st) return st;
     c->k->fluid_setup(&c->b);
-    if ((st = build_once_rows(be, c, err))) return st;
+    /* the two stages (SSP-RK has a momentum-rate field) */
+    if (!c->b.field[FIELD_MOMENTUM_RATE] && (st = build_once_rows(be, c, err))) return st;
     phase_end(be, "fluid setup", t0);
     return SPH_OK;
 }
