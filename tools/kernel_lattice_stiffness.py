@@ -82,6 +82,29 @@ def acoustic_limit(name, h, nk, nu, xi_e=3.5):
     return omega, 2 / (omega * h)
 
 
+def relaxation_alpha_limit(name, h, nk=41):
+    """The largest stable alpha of the relaxation step x += alpha h^2 a (host/setup/relax.c,
+    relaxation.step = "fixed") on the 2D lattice (spacing 1, h = h/dp): with
+    a = -2 sum_j grad W V_j, a displacement wave u exp(ik.x) changes a by -K(k) u,
+    K(k) = 2 sum_j H(r_j) (1 - cos k.r_j), H = W'' e e^T + (W'/r)(I - e e^T), so the step is
+    stable while alpha h^2 lambda_max(K) <= 2.  W'' by a central difference of W'."""
+    reach = int(np.ceil(2 * h))
+    offsets = np.array([(a, b) for a in range(-reach, reach + 1) for b in range(-reach, reach + 1)
+                        if (a, b) != (0, 0) and np.hypot(a, b) < 2 * h], float)
+    r = np.hypot(offsets[:, 0], offsets[:, 1])
+    e = offsets / r[:, None]
+    d = 1e-5 * h
+    w1 = dw_dr(name, r, h)
+    w2 = (dw_dr(name, r + d, h) - dw_dr(name, r - d, h)) / (2 * d)
+    eye = np.eye(2)[None, :, :]
+    ee = np.einsum("ja,jb->jab", e, e)
+    hess = w2[:, None, None] * ee + (w1 / r)[:, None, None] * (eye - ee)
+    ks = np.linspace(0.0, np.pi, nk)
+    largest = max(np.linalg.eigvalsh(np.einsum("j,jab->ab", 2 * (1 - np.cos(offsets @ [kx, ky])),
+                                               hess))[-1] for kx in ks for ky in ks)
+    return 2.0 / (h * h * largest)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--ratios", type=float, nargs="+", default=[1.3, 2.0, 3.0], help="h / dp")

@@ -43,6 +43,9 @@ typedef struct {
     const char *out;
     double dp_ref; /* the spacing at kappa = 1.3: h = 1.3 dp_ref */
     int steps;     /* relaxation steps */
+    /* relaxation.step: "fixed" (the default: the relaxation tutorial's step,
+     * under each kernel's stability limit) or "normalised" (relax.h) */
+    const char *step;
     long long seed;
     double exclude; /* boundary band excluded from the statistics, in h */
     int ncases;
@@ -54,6 +57,7 @@ typedef struct {
     ks_case c;
     double dp, h;
     int n, interior_count, steps;
+    double step_alpha; /* the fixed step's alpha (0: normalised) */
     double relax_seconds, eval_seconds;
     double *pos;     /* [2 n], component-major as in sph_particles */
     double *residue; /* [n] |2 sum_j V_j grad_i W_ij| (no boundary term) */
@@ -130,6 +134,7 @@ static int parse_flags(int argc, char **argv, ks_options *o) {
     o->out = DEFAULT_OUT;
     o->dp_ref = DEFAULT_DP;
     o->steps = 1000;
+    o->step = "fixed";
     o->seed = 1;
     o->exclude = 2.0;
     const char *kappa_arg = NULL, *kernel_arg = NULL;
@@ -138,7 +143,7 @@ static int parse_flags(int argc, char **argv, ks_options *o) {
         const bool valued = strcmp(a, "--out") == 0 || strcmp(a, "--dp") == 0 ||
                             strcmp(a, "--kappas") == 0 || strcmp(a, "--kernels") == 0 ||
                             strcmp(a, "--steps") == 0 || strcmp(a, "--seed") == 0 ||
-                            strcmp(a, "--exclude") == 0;
+                            strcmp(a, "--exclude") == 0 || strcmp(a, "--step") == 0;
         if (!valued)
             return flag_error(a[0] == '-' ? "unknown option %s" : "unexpected argument %s", a);
         if (k + 1 >= argc) return flag_error("%s needs a value", a);
@@ -156,6 +161,10 @@ static int parse_flags(int argc, char **argv, ks_options *o) {
             if (!parse_double(v, &x) || x != floor(x) || x < 0 || x > 1000000)
                 return flag_error("--steps %s: expected a whole number in [0, 1000000]", v);
             o->steps = (int)x;
+        } else if (strcmp(a, "--step") == 0) {
+            if (strcmp(v, "fixed") != 0 && strcmp(v, "normalised") != 0)
+                return flag_error("--step %s: expected fixed or normalised", v);
+            o->step = v;
         } else if (strcmp(a, "--seed") == 0) {
             if (!parse_double(v, &x) || x != floor(x) || x < 0 || x > 1e15)
                 return flag_error("--seed %s: expected a whole number >= 0", v);
@@ -241,8 +250,8 @@ static sph_status relax_disc(const ks_options *o, const ks_case *c, ks_result *r
                "}; };\n"
                "shapes = { disc = { type = \"disc\"; centre = [0.0, 0.0]; radius = %.17g; }; };\n"
                "bodies = ( { name = \"disc\"; material = \"m\"; shape = \"disc\"; placement = "
-               "\"relaxed\"; relaxation = { steps = %d; seed = %lld; }; } );\n",
-               r->dp, sph_kernel_name(c->kernel), DISC_RADIUS, o->steps, o->seed);
+               "\"relaxed\"; relaxation = { steps = %d; step = \"%s\"; seed = %lld; }; } );\n",
+               r->dp, sph_kernel_name(c->kernel), DISC_RADIUS, o->steps, o->step, o->seed);
     sph_scene *scene = malloc(sizeof *scene);
     if (!scene) return sph_fail(err, SPH_ERR_RUNTIME, "out of memory for the study's scene");
     sph_status st = sph_scene_load_text(scene, "kernel-study disc", text, NULL, 0, err);
@@ -259,6 +268,7 @@ static sph_status relax_disc(const ks_options *o, const ks_case *c, ks_result *r
         r->n = p.n;
         r->steps = p.relax[0].steps;
         r->relax_seconds = p.relax[0].seconds;
+        r->step_alpha = p.relax[0].step_alpha;
         r->project_mean = p.relax[0].mean;
         r->project_max = p.relax[0].max;
         r->min_distance = p.relax[0].min_distance;
@@ -472,6 +482,7 @@ static json_object *build_json(const ks_options *o, const ks_result *res, int nr
     json_object_object_add(settings, "dp_reference", json_object_new_double(o->dp_ref));
     json_object_object_add(settings, "h", json_object_new_double(REFERENCE_KAPPA * o->dp_ref));
     json_object_object_add(settings, "relaxation_steps", json_object_new_int(o->steps));
+    json_object_object_add(settings, "relaxation_step", json_object_new_string(o->step));
     json_object_object_add(settings, "seed", json_object_new_int64(o->seed));
     json_object_object_add(
         settings, "interior",
@@ -527,6 +538,9 @@ static json_object *build_json(const ks_options *o, const ks_result *res, int nr
         json_object_object_add(k, "particles", json_object_new_int(r->n));
         json_object_object_add(k, "interior_particles", json_object_new_int(r->interior_count));
         json_object_object_add(k, "relaxation_steps", json_object_new_int(r->steps));
+        if (r->step_alpha > 0.0)
+            json_object_object_add(k, "relaxation_step_alpha",
+                                   json_object_new_double(r->step_alpha));
         json_object_object_add(k, "relaxation_residual_mean",
                                json_object_new_double(r->project_mean));
         json_object_object_add(k, "relaxation_residual_max",
@@ -609,11 +623,16 @@ int sph_kernel_study_main(int argc, char **argv) {
         if (st) break;
         done = c + 1;
         const ks_result *r = &res[c];
+        char rule[48];
+        if (r->step_alpha > 0.0)
+            snprintf(rule, sizeof rule, "%s, alpha %.4g", o->step, r->step_alpha);
+        else
+            snprintf(rule, sizeof rule, "%s", o->step);
         fprintf(stderr,
-                "%s kappa = %g: dp = %.6g, %d particles (%d interior), %d steps, relax %.1f s; "
-                "residue mean %.4g, max - min %.4g\n",
+                "%s kappa = %g: dp = %.6g, %d particles (%d interior), %d steps (%s), relax %.1f "
+                "s; residue mean %.4g, max - min %.4g\n",
                 sph_kernel_name(r->c.kernel), r->c.kappa, r->dp, r->n, r->interior_count, r->steps,
-                r->relax_seconds, r->res_mean, r->res_max - r->res_min);
+                rule, r->relax_seconds, r->res_mean, r->res_max - r->res_min);
     }
     if (!st) st = write_outputs(o, res, done, &err);
     if (st)

@@ -17,8 +17,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#define FILE_FORMAT  "sphsolid relaxed particles"
-#define FILE_VERSION 1
+#define FILE_FORMAT "sphsolid relaxed particles"
+/* 2: the step's rule ("step") among the attributes a reused file must match */
+#define FILE_VERSION 2
 
 /* ------------------------------------------------------------------------ */
 /* the kernel's support beyond a plane                                        */
@@ -407,6 +408,95 @@ sph_status sph_relax_residual(const sph_scene *scene, int body, int n, const dou
     return st;
 }
 
+/* The largest eigenvalue of the symmetric dim x dim matrix m (row major). */
+static double symmetric_max_eigenvalue(int dim, const double m[9]) {
+    if (dim == 1) return m[0];
+    if (dim == 2) {
+        const double mean = 0.5 * (m[0] + m[3]), half = 0.5 * (m[0] - m[3]);
+        return mean + sqrt(half * half + m[1] * m[1]);
+    }
+    /* 3 x 3: the trigonometric solution of the characteristic cubic */
+    const double p1 = m[1] * m[1] + m[2] * m[2] + m[5] * m[5];
+    const double q = (m[0] + m[4] + m[8]) / 3.0;
+    const double p2 =
+        (m[0] - q) * (m[0] - q) + (m[4] - q) * (m[4] - q) + (m[8] - q) * (m[8] - q) + 2.0 * p1;
+    const double p = sqrt(p2 / 6.0);
+    if (!(p > 0.0)) return q;
+    double b[9];
+    for (int k = 0; k < 9; k++) b[k] = (m[k] - (k % 4 == 0 ? q : 0.0)) / p;
+    const double det = b[0] * (b[4] * b[8] - b[5] * b[7]) - b[1] * (b[3] * b[8] - b[5] * b[6]) +
+                       b[2] * (b[3] * b[7] - b[4] * b[6]);
+    const double r = fmax(-1.0, fmin(1.0, det / 2.0));
+    return q + 2.0 * p * cos(acos(r) / 3.0);
+}
+
+/* The coefficient of the fixed step (relaxation.step = "fixed"): x += alpha
+ * h^2 a, the form of the public code's relaxation tutorial (Delta r_i =
+ * -2 alpha h^2 sum_j V_j grad W_ij, alpha about 0.2; seed-digest
+ * 001/002/004, eq. 4), with alpha at most 3/4 of the step's stability limit.
+ * Linearised about the body's lattice (spacing dp, volumes dp^d), a
+ * displacement wave u e^{ik.x} changes a_i by -K(k) u with
+ *   K(k) = 2 sum_j H(r_j) (1 - cos k.r_j) V_j,   H = W'' e e^T + (W'/r)(I - e e^T),
+ * and the step is stable while alpha h^2 lambda <= 2 for every eigenvalue
+ * lambda of K over the Brillouin zone.  At h = 1.3 dp the limit is alpha =
+ * 0.133 for Laguerre-Gauss, 0.365 for Wendland C2 and 0.045 for
+ * Laguerre-Wendland; the kernel study's disc (dp = 1/60, 1000 steps) blows up
+ * between 0.12 and 0.14 and between 0.3 and 0.4 for the first two, as that
+ * says (docs/kernel-study.md).  W'' by a central difference of the kernel's
+ * W' (the physics source has no second derivative). */
+static double fixed_step_alpha(const relax_state *s) {
+    const int dim = s->dim, reach = (int)ceil(s->cutoff / s->dp);
+    const double volume = pow(s->dp, dim), dr = 1e-6 * s->h;
+    /* the lattice neighbours within the cut-off and their H V (2048 hold a
+     * 3D support of 2h = 7.8 dp; scenes allow h <= 2 dp, the kernel study
+     * h <= 4 dp in 2D) */
+    enum { MAX_NEIGHBOURS = 2048 };
+    double offset[MAX_NEIGHBOURS][3], hv[MAX_NEIGHBOURS][9];
+    int count = 0;
+    const int span = 2 * reach + 1, cells = dim == 1   ? span
+                                            : dim == 2 ? span * span
+                                                       : span * span * span;
+    for (int c = 0; c < cells && count < MAX_NEIGHBOURS; c++) {
+        int idx[3] = {c % span - reach, dim > 1 ? (c / span) % span - reach : 0,
+                      dim > 2 ? c / (span * span) - reach : 0};
+        double x[3] = {idx[0] * s->dp, idx[1] * s->dp, idx[2] * s->dp};
+        const double r = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        if (!(r > 0.0) || r >= s->cutoff) continue;
+        const double w1 = s->k->kernel_dw(s->prm, r);
+        const double w2 =
+            (s->k->kernel_dw(s->prm, fmin(r + dr, s->cutoff)) - s->k->kernel_dw(s->prm, r - dr)) /
+            (fmin(r + dr, s->cutoff) - (r - dr));
+        for (int a = 0; a < dim; a++) {
+            offset[count][a] = x[a];
+            for (int b = 0; b < dim; b++) {
+                const double ee = x[a] * x[b] / (r * r);
+                hv[count][a * 3 + b] = (w2 * ee + w1 / r * ((a == b) - ee)) * volume;
+            }
+        }
+        count++;
+    }
+    /* lambda_max over k in [0, pi/dp]^d (K is even in each component of k
+     * on the square lattice) */
+    const int nk = dim == 1 ? 401 : dim == 2 ? 41 : 17;
+    const int points = dim == 1 ? nk : dim == 2 ? nk * nk : nk * nk * nk;
+    double lambda = 0.0;
+    for (int p = 0; p < points; p++) {
+        const int kk[3] = {p % nk, dim > 1 ? (p / nk) % nk : 0, dim > 2 ? p / (nk * nk) : 0};
+        double kvec[3], m[9] = {0};
+        for (int a = 0; a < 3; a++) kvec[a] = kk[a] * 3.14159265358979323846 / ((nk - 1) * s->dp);
+        for (int j = 0; j < count; j++) {
+            double phase = 0.0;
+            for (int a = 0; a < dim; a++) phase += kvec[a] * offset[j][a];
+            const double f = 2.0 * (1.0 - cos(phase));
+            for (int a = 0; a < dim; a++)
+                for (int b = 0; b < dim; b++) m[a * dim + b] += f * hv[j][a * 3 + b];
+        }
+        lambda = fmax(lambda, symmetric_max_eigenvalue(dim, m));
+    }
+    const double limit = lambda > 0.0 ? 2.0 / (s->h * s->h * lambda) : INFINITY;
+    return fmin(0.2, 0.75 * limit);
+}
+
 /* splitmix64 (Steele, Lea & Flood 2014): a counter-based stream, so the
  * offset of particle i depends only on the seed and i. */
 static uint64_t splitmix64(uint64_t x) {
@@ -446,6 +536,7 @@ sph_status sph_relax_positions(const sph_scene *scene, int body, int n, double *
 
     int step = 0;
     double amax_start = 0.0;
+    rep->step_alpha = rx->step == SPH_RELAX_STEP_FIXED ? fixed_step_alpha(&s) : 0.0;
     for (;; step++) {
         if ((st = sph_cell_list_build(&s.cells, s.dim, pos, s.n, s.cutoff, err))) goto done;
         evaluate(&s, pos);
@@ -468,7 +559,9 @@ sph_status sph_relax_positions(const sph_scene *scene, int body, int n, double *
         }
         if (!(amax2 > 0.0)) break;
         if (step == 0) amax_start = sqrt(amax2);
-        const double dt2 = 0.0625 * s.h / fmax(sqrt(amax2), 0.1 * amax_start);
+        const double dt2 = rx->step == SPH_RELAX_STEP_FIXED
+                               ? 2.0 * rep->step_alpha * s.h * s.h
+                               : 0.0625 * s.h / fmax(sqrt(amax2), 0.1 * amax_start);
 #pragma omp parallel for schedule(static)
         for (int i = 0; i < n; i++) {
             double x[3] = {0, 0, 0}, old[3] = {0, 0, 0};
@@ -490,6 +583,11 @@ done:
 /* ------------------------------------------------------------------------ */
 /* the saved result                                                           */
 /* ------------------------------------------------------------------------ */
+
+/* The scene's word for a step rule (bodies.relaxation.step). */
+static const char *relax_step_name(sph_relax_step step) {
+    return step == SPH_RELAX_STEP_FIXED ? "fixed" : "normalised";
+}
 
 static void hash_hex(uint64_t h, char buf[17]) {
     snprintf(buf, 17, "%016" PRIx64, h);
@@ -514,7 +612,7 @@ static bool read_matching(const sph_scene *scene, int body, const double origin[
         return false;
     }
     bool ok = false;
-    char *format = NULL, *kernel = NULL, *shape_hash = NULL;
+    char *format = NULL, *kernel = NULL, *shape_hash = NULL, *step_rule = NULL;
     double *rows = NULL;
     int64_t version = 0, dimension = 0, count = 0, seed = 0, steps = 0, taken = 0;
     double dp = 0, ratio = 0, tolerance = 0, perturbation = 0, o[3] = {0, 0, 0};
@@ -570,6 +668,13 @@ static bool read_matching(const sph_scene *scene, int body, const double origin[
     DIFFERS(perturbation != rx->perturbation, "perturbation differs (file %.17g, scene %.17g)",
             perturbation, rx->perturbation);
     DIFFERS(steps != rx->steps, "steps differ (file %" PRId64 ", scene %d)", steps, rx->steps);
+    /* a version-2 file has it */
+    if (sph_h5_read_attr_string(f, path, "step", &step_rule, &err)) {
+        sph_format(rep->note, sizeof rep->note, "%s", err.msg);
+        goto out;
+    }
+    DIFFERS(strcmp(step_rule, relax_step_name(rx->step)) != 0,
+            "the step's rule differs (file %s, scene %s)", step_rule, relax_step_name(rx->step));
     DIFFERS(tolerance != rx->tolerance, "tolerance differs (file %.17g, scene %.17g)", tolerance,
             rx->tolerance);
     for (int a = 0; a < scene->dim; a++)
@@ -615,6 +720,7 @@ out:
     free(rows);
     free(format);
     free(kernel);
+    free(step_rule);
     free(shape_hash);
     H5Fclose(f);
     return ok;
@@ -653,6 +759,7 @@ static sph_status write_file(const sph_scene *scene, int body, const double orig
     if (!st) st = sph_h5_attr_string(&w, root, "kernel", sph_kernel_name(scene->kernel), err);
     if (!st) st = sph_h5_attr_int64s(&w, root, "seed", &seed, 1, err);
     if (!st) st = sph_h5_attr_int64s(&w, root, "steps", &steps, 1, err);
+    if (!st) st = sph_h5_attr_string(&w, root, "step", relax_step_name(rx->step), err);
     if (!st) st = sph_h5_attr_double(&w, root, "tolerance", rx->tolerance, err);
     if (!st) st = sph_h5_attr_double(&w, root, "perturbation", rx->perturbation, err);
     if (!st) st = sph_h5_attr_string(&w, root, "shape_hash", hash, err);

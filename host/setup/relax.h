@@ -18,7 +18,10 @@
  * integral G(d) (sph_kernel_half_space, exact beyond a plane at the depth
  * d) checks it and is what B reduces to at a flat face.  The step is
  * x += a dt^2 / 2 with dt = 0.25 sqrt(h / max|a|), i.e. no particle moves
- * more than h/32, dt frozen once max|a| falls below a tenth of its start;
+ * more than h/32, dt frozen once max|a| falls below a tenth of its start
+ * (relaxation.step = "normalised"), or x += alpha h^2 a with alpha =
+ * min(0.2, 3/4 of the step's stability limit on the body's lattice)
+ * (relaxation.step = "fixed", relax.c: fixed_step_alpha);
  * a particle closer than dp/2 to the surface is then put back on
  * phi = -dp/2 along the normal (the reference code's ShapeSurfaceBounding):
  * a particle stands for a cell of width dp, so the outermost particles sit
@@ -68,6 +71,7 @@ typedef struct {
      * the perturbed start, and of the result */
     double lattice_mean, lattice_max, start_mean, start_max, mean, max;
     double min_distance; /* the closest pair of the result, over dp */
+    double step_alpha;   /* relaxation.step = "fixed": its alpha (else 0) */
     double seconds;      /* wall time of the relaxation (0 when reused) */
     /* why the file was not reused ("no file yet", "dp differs: ...") */
     char note[640];

@@ -195,9 +195,16 @@ typedef enum {
     SPH_PLACEMENT_LATTICE = 0, /* cell centres of the dp lattice */
     SPH_PLACEMENT_RELAXED = 1  /* the lattice particles, perturbed and relaxed (relax.h) */
 } sph_placement;
+/* bodies[i].relaxation.step: how far each relaxation step moves the
+ * particles (relax.h) */
+typedef enum {
+    SPH_RELAX_STEP_NORMALISED = 0, /* the largest move h/32 (the reference code's) */
+    SPH_RELAX_STEP_FIXED = 1       /* x += alpha h^2 a, alpha below the lattice's limit */
+} sph_relax_step;
 /* bodies[i].relaxation (docs/scene-format.md) */
 typedef struct {
     int steps;           /* at most this many relaxation steps */
+    sph_relax_step step; /* the step's rule */
     double tolerance;    /* stop once the mean residual is at most this (0: run all steps) */
     double perturbation; /* amplitude of the initial random offset per axis, in dp */
     uint64_t seed;       /* of the offset's pseudo-random sequence, the full unsigned range */

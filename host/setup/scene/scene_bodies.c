@@ -250,6 +250,7 @@ static sph_status parse_placement(loader *L, const config_setting_t *b, sph_body
     memset(r, 0, sizeof *r);
     /* the schema's defaults, also for a body without a relaxation group */
     r->steps = (int)sph_scene_key_at(SK_RELAXATION_STEPS)->def;
+    r->step = (sph_relax_step)sph_scene_key_at(SK_RELAXATION_STEP)->def;
     r->tolerance = sph_scene_key_at(SK_RELAXATION_TOLERANCE)->def;
     r->perturbation = sph_scene_key_at(SK_RELAXATION_PERTURBATION)->def;
     r->seed = (unsigned long long)sph_scene_key_at(SK_RELAXATION_SEED)->def;
@@ -261,13 +262,16 @@ static sph_status parse_placement(loader *L, const config_setting_t *b, sph_body
             "body is placed on the lattice)");
     scene_wide_int seed = {false, r->seed};
     bool has_seed = false;
+    int step = (int)r->step;
     char text[24];
     if ((st = scene_check_keys(L, g, SECTIONS("bodies.relaxation"))) ||
         (st = scene_integer(L, g, SK_RELAXATION_STEPS, &r->steps, &at)) ||
+        (st = scene_keyword(L, g, SK_RELAXATION_STEP, &step, NULL)) ||
         (st = scene_number(L, g, SK_RELAXATION_TOLERANCE, &r->tolerance)) ||
         (st = scene_number(L, g, SK_RELAXATION_PERTURBATION, &r->perturbation)) ||
         (st = scene_wide_integer(L, g, SK_RELAXATION_SEED, &seed, &has_seed, &at)))
         return st;
+    r->step = (sph_relax_step)step;
     /* any 64-bit pattern seeds splitmix64 (docs/scene-format.md) */
     if (seed.negative)
         return scene_fail_at(L, at, NULL, "must be >= 0, got %s", scene_wide_text(seed, text));
