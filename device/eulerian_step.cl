@@ -98,15 +98,10 @@
 /* a particle whose state the step's rates do not change */
 #    define HOLDS_STATE(k) (IS_FIXED(k) || IS_WALL(k) || IS_FAR_FIELD(k))
 
-/* The scene's gravity g, a body force: the momentum rate of a particle
- * that evolves gains m g and (compressible) its total energy the work
- * m v . g; the pair fluxes are untouched, so a fluid at rest under gravity
- * meets the walls that hold it through its pressure. */
-FN vec fluid_gravity(CONSTANT sph_params *prm) {
-    vec g = vec_zero();
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) g.c[a] = prm->gravity[a];
-    return g;
-}
+/* Gravity on the fluids (gravity_of, sph_vec.h), a body force: the momentum
+ * rate of a particle that evolves gains m g and (compressible) its total
+ * energy the work m v . g; the pair fluxes are untouched, so a fluid at rest
+ * under gravity meets the walls that hold it through its pressure. */
 /* the wall pairs' share of each fluid particle's F (pressure part, then
  * viscous part): minus their sum is the force on the walls */
 #    if SPH_FLUID_WALLS
@@ -685,7 +680,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     (void)wall_flux;
     (void)wall_visc;
 #        endif
-    if (!HOLDS_STATE(i)) force = vec_axpy(force, mass[i], fluid_gravity(prm));
+    if (!HOLDS_STATE(i)) force = vec_axpy(force, mass[i], gravity_of(prm));
     vec_store(vel_stage, n, i, vec_axpy(v_i, dt / mass[i], force));
 }
 
@@ -854,7 +849,7 @@ FN void eulerian_momentum_stage(const int i, const int n, const real dt, CONSTAN
     vec v = vec_load(vel, n, i);
     if (!HOLDS_STATE(i))
         v = vec_axpy(v, dt / mass[i],
-                     vec_axpy(vec_load(force_sum, n, i), mass[i], fluid_gravity(prm)));
+                     vec_axpy(vec_load(force_sum, n, i), mass[i], gravity_of(prm)));
     vec_store(vel_stage, n, i, v);
     vec_store(force_sum, n, i, vec_zero());
     mass_rate[i] = R(0);
@@ -984,7 +979,7 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
     /* gravity's work over the step, m^n g . (v^n + v') / 2: with no other
      * force, exactly the kinetic energy it adds */
     const real work =
-        m_old * R(0.5) * vec_dot(vec_add(vec_load(vel, n, i), v_stage), fluid_gravity(prm));
+        m_old * R(0.5) * vec_dot(vec_add(vec_load(vel, n, i), v_stage), gravity_of(prm));
 #        endif
     const vec v = vec_scale(v_stage, m_old / m);
     vec_store(vel, n, i, v);
@@ -1136,7 +1131,7 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, const in
     const vec mv_old = vec_scale(vec_load(vel, n, i), m_old);
     real m = m_old + dt * mass_rate[i];
     /* the stage's rates with gravity's: m g, and the work m v . g */
-    const vec g = fluid_gravity(prm);
+    const vec g = gravity_of(prm);
     vec mv = vec_axpy(mv_old, dt, vec_axpy(vec_load(momentum_rate, n, i), m_old, g));
 #        if SPH_HAS_COMPRESSIBLE
     real e = energy[i] + dt * (energy_rate[i] + vec_dot(mv_old, g));

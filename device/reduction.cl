@@ -113,8 +113,7 @@ FN void rebuild_contrib(const int i, const int n, CONSTANT sph_params *prm, GLOB
     /* ContinuumVolumeUpdate of the reference: V = m / rho at each rebuild */
     vol[i] = (real)(mass[i] / rho[i]);
     c[2 * SPH_DIM] = vec_dot(v, v);
-    vec a = vec_load(acc_diss, n, i);
-    UNROLL for (int d = 0; d < SPH_DIM; ++d) a.c[d] += prm->gravity[d];
+    const vec a = vec_add(vec_load(acc_diss, n, i), gravity_of(prm));
     c[2 * SPH_DIM + 1] = R(4) * prm->h * sqrt(vec_dot(a, a));
 #endif
 }

@@ -37,7 +37,7 @@ FN void apply_constraint(CONSTANT sph_params *prm, const int fixed, const real d
  * in its precision. */
 FN void verlet_advance(CONSTANT sph_params *prm, const int n, const int i, const real dt, vec acc,
                        GLOBAL hreal *pos, GLOBAL real *vel, GLOBAL const u8 *fixed) {
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) acc.c[a] += prm->gravity[a];
+    acc = vec_add(acc, gravity_of(prm));
     const vec v_old = vec_load(vel, n, i);
     vec v_new = vec_axpy(v_old, dt, acc);
     vec dx = vec_scale(vec_add(v_old, v_new), R(0.5) * dt);

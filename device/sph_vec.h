@@ -287,4 +287,13 @@ FN mat spin_matrix(const real w[NSPIN]) {
     return r;
 }
 
+/* The scene's gravity g (sph_params.h: 0 beyond the dimension), added to
+ * the solids' acceleration (verlet_advance, the step clock's signal) and to
+ * the fluids' momentum rate (eulerian_step.cl). */
+FN vec gravity_of(CONSTANT sph_params *prm) {
+    vec g = vec_zero();
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) g.c[a] = prm->gravity[a];
+    return g;
+}
+
 #endif
