@@ -48,54 +48,75 @@
 #include "sph_pair_geometry.h"
 #include "sph_torque_projection.h"
 
+/* The optional parameters of the kernels below, by feature; each X_PARAMS
+ * has its X_ARGS, the same names for a call (the substep loop's,
+ * substep_loop.cl). */
 #if SPH_HAS_ROTATION_AVG
 #    define ROTATION_AVG_PARAMS                                                                    \
         , GLOBAL const real *restrict dacc_shear, GLOBAL const real *restrict substep_sums
 #    define ROTATION_AVG_SPIN_PARAMS , GLOBAL real *restrict dacc_shear, GLOBAL real *restrict spin
+#    define ROTATION_AVG_ARGS        , dacc_shear, substep_sums
+#    define ROTATION_AVG_SPIN_ARGS   , dacc_shear, spin
 #else
 #    define ROTATION_AVG_PARAMS
 #    define ROTATION_AVG_SPIN_PARAMS
+#    define ROTATION_AVG_ARGS
+#    define ROTATION_AVG_SPIN_ARGS
 #endif
 #if SPH_HAS_BODY_IDS
 #    define BODY_PARAMS , GLOBAL const u8 *restrict body
+#    define BODY_ARGS   , body
 #    define BODY_OF(i)  (PRESENT(body) ? (int)body[i] : 0)
 #else
 #    define BODY_PARAMS
+#    define BODY_ARGS
 #    define BODY_OF(i) 0
 #endif
 #if SPH_HAS_CLAMP
 #    define CLAMP_PARAMS , GLOBAL const u8 *restrict fixed
+#    define CLAMP_ARGS   , fixed
 #    define CLAMP_ARG    fixed
 #else
 #    define CLAMP_PARAMS
+#    define CLAMP_ARGS
 #    define CLAMP_ARG 0
 #endif
 /* buffers of the stress-divergence formulations (OG, OAS, GNOG, GNOG-A) */
 #if SPH_HAS_STRESS_DIV
 #    define STRESS_DIV_PARAMS , GLOBAL const real *restrict acc_stress
+#    define STRESS_DIV_ARGS   , acc_stress
 #else
 #    define STRESS_DIV_PARAMS
+#    define STRESS_DIV_ARGS
 #endif
 #if SPH_HAS_PENALTY
 #    define GRADV_OUT_PARAMS , GLOBAL real *restrict gradv
+#    define GRADV_OUT_ARGS   , gradv
 #else
 #    define GRADV_OUT_PARAMS
+#    define GRADV_OUT_ARGS
 #endif
 #if SPH_HAS_ART_STRESS
 #    define ART_OUT_PARAMS , GLOBAL real *restrict art_stress
+#    define ART_OUT_ARGS   , art_stress
 #else
 #    define ART_OUT_PARAMS
+#    define ART_OUT_ARGS
 #endif
 #if SPH_HAS_WALLS
 #    define WALL_POS_PARAMS , GLOBAL const hreal *restrict pos
+#    define WALL_POS_ARGS   , pos
 #else
 #    define WALL_POS_PARAMS
+#    define WALL_POS_ARGS
 #endif
 #if SPH_HAS_PLASTICITY
 #    define PLASTIC_OUT_PARAMS                                                                     \
         , GLOBAL real *restrict plastic_strain, GLOBAL real *restrict penalty_scale
+#    define PLASTIC_OUT_ARGS , plastic_strain, penalty_scale
 #else
 #    define PLASTIC_OUT_PARAMS
+#    define PLASTIC_OUT_ARGS
 #endif
 
 /* Mean rotation of body b from the summed Rodrigues matrices (003 eq. 41). */
@@ -519,23 +540,31 @@ KERNEL void acoustic_velocity_terms(
 #        define PENALTY_PARAMS                                                                     \
             , GLOBAL const real *restrict vel, GLOBAL const real *restrict gradv,                  \
                 GLOBAL hreal *restrict acc_shear
+#        define PENALTY_ARGS , vel, gradv, acc_shear
 #    else
 #        define PENALTY_PARAMS
+#        define PENALTY_ARGS
 #    endif
 #    if SPH_HAS_ART_STRESS
 #        define ART_IN_PARAMS , GLOBAL const real *restrict art_stress
+#        define ART_IN_ARGS   , art_stress
 #    else
 #        define ART_IN_PARAMS
+#        define ART_IN_ARGS
 #    endif
 #    if SPH_HAS_PLASTICITY && SPH_HAS_PENALTY
 #        define PENALTY_SCALE_PARAMS , GLOBAL const real *restrict penalty_scale
+#        define PENALTY_SCALE_ARGS   , penalty_scale
 #    else
 #        define PENALTY_SCALE_PARAMS
+#        define PENALTY_SCALE_ARGS
 #    endif
 #    if SPH_HAS_ROTATION_AVG && SPH_HAS_PENALTY
 #        define PENALTY_AVG_PARAMS , GLOBAL real *restrict dacc_shear
+#        define PENALTY_AVG_ARGS   , dacc_shear
 #    else
 #        define PENALTY_AVG_PARAMS
+#        define PENALTY_AVG_ARGS
 #    endif
 /* Third pass of the stress-divergence formulations, after the stress update
  * of acoustic_velocity_terms (neighbours read the updated tau and L):

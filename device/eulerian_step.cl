@@ -50,13 +50,20 @@
             , GLOBAL const real *restrict energy, GLOBAL real *restrict energy_rate
 #        define ENERGY_UPDATE_PARAMS                                                               \
             , GLOBAL real *restrict energy, GLOBAL const real *restrict energy_rate
+#        define ENERGY_ARG           , energy
+#        define ENERGY_RATE_ARGS     , energy, energy_rate
 #        define ENERGY_PER_VOLUME(k) (energy[k] / vol[k])
 #    else
 #        define ENERGY_PARAM
 #        define ENERGY_RATE_PARAMS
 #        define ENERGY_UPDATE_PARAMS
+#        define ENERGY_ARG
+#        define ENERGY_RATE_ARGS
 #        define ENERGY_PER_VOLUME(k) R(0)
 #    endif
+/* (each X_PARAM(S) of this file has its X_ARG(S), the same names for a call:
+ * the substep loop's, substep_loop.cl; ENERGY_UPDATE_PARAMS's are
+ * ENERGY_RATE_ARGS) */
 
 /* Fixed-state particles (constraints of type "fixed" on a fluid body): a
  * Dirichlet buffer whose state never changes, e.g. the supersonic inflow
@@ -65,9 +72,11 @@
  * them alone. */
 #    if SPH_HAS_CLAMP
 #        define FIXED_PARAM , GLOBAL const u8 *restrict fixed
+#        define FIXED_ARG   , fixed
 #        define IS_FIXED(k) (PRESENT(fixed) && fixed[k] != 0)
 #    else
 #        define FIXED_PARAM
+#        define FIXED_ARG
 #        define IS_FIXED(k) 0
 #    endif
 
@@ -76,9 +85,11 @@
  * fluid, a far-field particle's outward one). */
 #    if SPH_FLUID_KINDS
 #        define KIND_PARAMS , GLOBAL const u8 *restrict kind, GLOBAL const real *restrict normal
+#        define KIND_ARGS   , kind, normal
 #        define KIND_OF(k)  (PRESENT(kind) ? (int)kind[k] : SPH_PARTICLE_FLUID)
 #    else
 #        define KIND_PARAMS
+#        define KIND_ARGS
 #        define KIND_OF(k) SPH_PARTICLE_FLUID
 #    endif
 /* a wall particle, whose state no step changes (a macro, also where it is a
@@ -106,8 +117,10 @@
  * viscous part): minus their sum is the force on the walls */
 #    if SPH_FLUID_WALLS
 #        define WALL_FORCE_PARAM , GLOBAL real *restrict wall_force
+#        define WALL_FORCE_ARG   , wall_force
 #    else
 #        define WALL_FORCE_PARAM
+#        define WALL_FORCE_ARG
 #    endif
 
 /* The frozen pair rows: particle i's ROW_COUNT(i) pairs at the slots
@@ -139,6 +152,7 @@
 #    else
 #        define PAIR_ROWS_PARAMS                                                                   \
             const int cap, GLOBAL const int *restrict nbr_count, GLOBAL const int *restrict nbr_j
+#        define PAIR_ROWS_ARGS    cap, nbr_count, nbr_j
 #        define ROW_COUNT(i)      nbr_count[i]
 #        define ROW_SLOT(i, k)    NBR_AT(i, k)
 #        define ROWS_STRIDE       (n * cap)
@@ -174,6 +188,7 @@ FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const f
 }
 #        define SOUND_PARAM     , GLOBAL const real *restrict sound_speed
 #        define SOUND_OUT_PARAM , GLOBAL real *restrict sound_speed
+#        define SOUND_ARG       , sound_speed
 #        define SOUND_OF(k)     sound_speed[k]
 #    else
 typedef linearised_solver fluid_solver;
@@ -186,6 +201,7 @@ FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const f
 }
 #        define SOUND_PARAM
 #        define SOUND_OUT_PARAM
+#        define SOUND_ARG
 #        define SOUND_OF(k) R(0)
 #    endif
 

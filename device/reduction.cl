@@ -210,16 +210,33 @@ FN void diagnostics_contrib(const int i, const int n, CONSTANT sph_params *prm,
 }
 
 #if SPH_OPENCL
-/* Tree-combine `value` over the work-group (by max or by sum); the result is
- * in scratch[0] for every item after the call. */
-FN void group_tree(__local real *scratch, const real value, const int by_max) {
-    const int lid = get_local_id(0);
-    scratch[lid] = value;
+/* Tree-combine `value` over a segment of SPH_WG work-items (by max or by
+ * sum), `lane` this item's place in it; the result is in segment[0] for
+ * every item after the call, which every item of the work-group makes (the
+ * barriers).  A reduction's work-group is one segment; the substep loop's
+ * (substep_loop.cl) holds several, combined in the same order. */
+FN void segment_tree(__local real *segment, const int lane, const real value, const int by_max) {
+    segment[lane] = value;
     barrier(CLK_LOCAL_MEM_FENCE);
     for (int s = SPH_WG / 2; s > 0; s >>= 1) {
-        if (lid < s)
-            scratch[lid] =
-                by_max ? fmax(scratch[lid], scratch[lid + s]) : scratch[lid] + scratch[lid + s];
+        if (lane < s)
+            segment[lane] =
+                by_max ? fmax(segment[lane], segment[lane + s]) : segment[lane] + segment[lane + s];
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+}
+
+FN void group_tree(__local real *scratch, const real value, const int by_max) {
+    segment_tree(scratch, get_local_id(0), value, by_max);
+}
+
+/* Reduce each component over a segment (see segment_tree); its lane 0 writes
+ * the segment's row `row` when it is one (row >= 0). */
+FN void segment_reduce_store(__local real *segment, const int lane, const int row, const real *c,
+                             const int nmax, const int ncomp, __global real *partials) {
+    for (int k = 0; k < ncomp; ++k) {
+        segment_tree(segment, lane, c[k], k < nmax);
+        if (lane == 0 && row >= 0) partials[row * ncomp + k] = segment[0];
         barrier(CLK_LOCAL_MEM_FENCE);
     }
 }
@@ -227,11 +244,7 @@ FN void group_tree(__local real *scratch, const real value, const int by_max) {
 /* Reduce each component over the work-group; item 0 writes the group's row. */
 FN void group_reduce_store(__local real *scratch, const real *c, const int nmax, const int ncomp,
                            __global real *partials) {
-    for (int k = 0; k < ncomp; ++k) {
-        group_tree(scratch, c[k], k < nmax);
-        if (get_local_id(0) == 0) partials[get_group_id(0) * ncomp + k] = scratch[0];
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
+    segment_reduce_store(scratch, get_local_id(0), get_group_id(0), c, nmax, ncomp, partials);
 }
 
 #    if SPH_REDUCE_BLOCKS

@@ -42,6 +42,9 @@
  *                    barriers (reduction.cl); 0: a tree over the work-group
  *   SPH_COUNTING_SORT 1 (OpenCL, CPU devices): the cell sort is a counting
  *                    sort on one work-item (neighbour_build.cl); 0: bitonic
+ *   SPH_SUBSTEP_LOOP 1 (OpenCL): the program of substep_loop.cl, whose one
+ *                    work-group of SPH_LOOP_WG items runs many substeps per
+ *                    launch; its per-item kernels are functions (KERNEL)
  */
 #ifndef SPH_PRELUDE_H
 #define SPH_PRELUDE_H
@@ -76,10 +79,19 @@ typedef float real;
 #    define UNROLL       _Pragma("unroll")
 #    define UNROLL_LANES UNROLL
 /* A per-item kernel is an OpenCL kernel here and a plain function called in
- * an OpenMP loop on the CPU.  ITEM_PARAM/ITEM_ID give it its item index. */
-#    define KERNEL __kernel
-#    define ITEM_PARAM
-#    define ITEM_ID ((int)get_global_id(0))
+ * an OpenMP loop on the CPU.  ITEM_PARAM/ITEM_ID give it its item index.
+ * The substep loop's program (SPH_SUBSTEP_LOOP, substep_loop.cl) makes them
+ * functions here too, which its one kernel calls for each particle of its
+ * work-items, as the native backend's thread team does. */
+#    if SPH_SUBSTEP_LOOP
+#        define KERNEL     FN
+#        define ITEM_PARAM const int item_,
+#        define ITEM_ID    item_
+#    else
+#        define KERNEL __kernel
+#        define ITEM_PARAM
+#        define ITEM_ID ((int)get_global_id(0))
+#    endif
 /* Optional buffers exist only when their feature is compiled in. */
 #    define PRESENT(p)          1
 #    define RUNTIME_ROTATION    SPH_ROTATION

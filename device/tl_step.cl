@@ -93,20 +93,28 @@
 
 #if SPH_HAS_TLSPH
 
+/* the optional parameters, each X_PARAMS with its X_ARGS, the same names
+ * for a call (the substep loop's, substep_loop.cl) */
 #    if SPH_HAS_CLAMP
 #        define TL_CLAMP_PARAMS , GLOBAL const u8 *restrict fixed
+#        define TL_CLAMP_ARGS   , fixed
 #        define TL_CLAMP_ARG    fixed
 #    else
 #        define TL_CLAMP_PARAMS
+#        define TL_CLAMP_ARGS
 #        define TL_CLAMP_ARG 0
 #    endif
 #    if SPH_HAS_TL_PLASTICITY
 #        define TL_PLASTIC_STATE_PARAMS                                                            \
             , GLOBAL real *restrict plastic_strain, GLOBAL real *restrict plastic_cinv
 #        define TL_PLASTIC_SWITCH_PARAMS , GLOBAL const real *restrict plastic_strain
+#        define TL_PLASTIC_STATE_ARGS    , plastic_strain, plastic_cinv
+#        define TL_PLASTIC_SWITCH_ARGS   , plastic_strain
 #    else
 #        define TL_PLASTIC_STATE_PARAMS
 #        define TL_PLASTIC_SWITCH_PARAMS
+#        define TL_PLASTIC_STATE_ARGS
+#        define TL_PLASTIC_SWITCH_ARGS
 #    endif
 
 FN vec tl_pair_direction(GLOBAL const real *restrict pair_e, const int stride, const int slot) {

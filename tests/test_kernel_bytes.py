@@ -195,8 +195,10 @@ def pairs_in_snapshot(path, cutoff):
 
 def check_run(backend, precision, tmp):
     out = os.path.join(tmp, f"{backend}-{precision}")
+    # OpenCL: the substep loop (device/substep_loop.cl), whose phase counts the passes it fuses
+    loop = ("--substeps-per-launch", "64") if backend == "opencl" else ()
     code, err = run_sphsolid(PLATE, backend, out, sets=("time.end=0.01",),
-                             options=("--profile", "--precision", precision))
+                             options=("--profile", "--precision", precision) + loop)
     check(code == 0, f"{backend} {precision}: exit {code} ({err})")
     if code != 0:
         return
@@ -245,10 +247,15 @@ def check_run(backend, precision, tmp):
                   "permute_real", "fluid setup"):
         if phase in prof:
             check("bytes_per_call" not in prof[phase], f"{backend}: {phase} has no bytes")
-    if backend == "cpu":
-        sub = prof.get("acoustic substep", {})
-        check(sub.get("bytes_of") == "acoustic_pressure + acoustic_velocity_terms + "
-              "substep_reduce", f"native substep phase's kernels: {sub.get('bytes_of')}")
+    # the native substep phase, and OpenCL's substep loop, count the passes they fuse, per
+    # substep
+    sub = prof.get("acoustic substep" if backend == "cpu" else "acoustic_substep_loop", {})
+    check(sub.get("bytes_of") == "acoustic_pressure + acoustic_velocity_terms + "
+          "substep_reduce", f"{backend}: fused substep phase's kernels: {sub.get('bytes_of')}")
+    if backend == "opencl":
+        check(0 < sub.get("calls", 0) < s["acoustic_steps"] and sub.get("bytes_per_call", 0) > 0
+              and "acoustic_pressure" not in prof,
+              f"opencl: the loop's launches hold several substeps each: {sub}")
 
 
 check_declarations()

@@ -68,7 +68,7 @@ REDUCTION_PHASES = {"rebuild_reduce", "substep_reduce", "diagnostics_reduce", "m
                     "step clock read", "max speed read"}
 SUBSTEP_PHASES = {"acoustic substep", "acoustic_contact", "acoustic_pressure",
                   "acoustic_velocity_terms", "acoustic_shear_force", "tl_deformation",
-                  "tl_acceleration", "tl_update"}
+                  "tl_acceleration", "tl_update", "acoustic_substep_loop"}
 
 
 def phase_group(name):

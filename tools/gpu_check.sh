@@ -3,13 +3,13 @@
 # build-gpu): the device and its bandwidth, every OpenCL test body on it, then the benchmarks
 # (docs/gpu.md; what the 2026-11-23 H100 session ran in three calls), each stage skipped when
 # the time budget is spent.  Logs and JSON go to OUTDIR (default $OUT, else /tmp/gpu-check).
-#   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests bench3d bench evr3d]
+#   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests loop bench3d bench evr3d]
 # (evr3d, the 3D plate's error-against-run-time ladder at H/dp = 3, 5, 9, is not in the default)
 set -u
 cd "$(dirname "$0")/.." || exit 1
 budget=${1:-560}
 shift || true
-stages=${*:-env tests bench3d bench}
+stages=${*:-env tests loop bench3d bench}
 out=${OUT:-/tmp/gpu-check}
 mkdir -p "$out"
 start=$(date +%s)
@@ -42,6 +42,30 @@ if want tests; then
     timeout 120 $py "tests/$t.py" opencl >"$out/$t.log" 2>&1
     echo "$t: exit $?; $(tail -1 "$out/$t.log")"
   done
+fi
+if want loop; then
+  # the substep loop (device/substep_loop.cl): bit for bit the per-pass runs on the GPU (its
+  # tree reduction), then the small scenes' time with a launch per pass against the loop
+  echo "== substep loop ($(left) s left)"
+  timeout 240 $py tests/test_substep_loop.py >"$out/test_substep_loop.log" 2>&1
+  echo "test_substep_loop: exit $?; $(tail -1 "$out/test_substep_loop.log")"
+  plate=cases/oscillating_plate_2d/scene.cfg
+  for run in "plate H/dp=10 t=1|$plate|time.end=1" \
+    "plate H/dp=20 t=0.2|$plate|resolution.ratio=20 time.end=0.2 time.output_interval=0.1" \
+    "cylinder small t=20|cases/cylinder_flow_2d/small.cfg|time.end=20" \
+    "column dp=1/6 t=0.5|cases/bending_column_3d/scene.cfg|resolution.dp=0.166666666666667 time.end=0.5"; do
+    IFS='|' read -r label scene sets <<<"$run"
+    [ "$(left)" -gt 60 ] || { echo "loop timing $label: skipped"; continue; }
+    for per in 1 0 1 0; do
+      args=()
+      for s in $sets; do args+=(--set "$s"); done
+      rm -rf "$out/loop-run"
+      timeout 120 "$bin/sphsolid" run "$scene" --backend opencl --quiet --out "$out/loop-run" \
+        --substeps-per-launch "$per" "${args[@]}" >/dev/null 2>&1
+      echo "loop timing $label, --substeps-per-launch $per: $($py -c "import json; s = json.load(open('$out/loop-run/summary.json')); print(s['particle_count'], 'particles', s['acoustic_steps'], 'substeps', s.get('substeps_per_launch'), 'per launch', round(s['wall_time_s'], 2), 's')" 2>&1)"
+    done
+  done
+  rm -rf "$out/loop-run"
 fi
 if want bench3d; then
   for p in mixed single double; do

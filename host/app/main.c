@@ -4,7 +4,8 @@
  *                      [--precision double|single|mixed] [--out DIR] [--quiet] [--profile]
  *                      [--checkpoint-every T] [--checkpoint-wall S] [--progress-interval S]
  *                      [--plot] [--pair-geometry auto|stored|recomputed] [--no-work-limit]
- *                      [--step-clock auto|device|host]
+ *                      [--step-clock auto|device|host] [--substeps-per-launch N]
+ *                      [--reduction auto|blocks|tree]
  *   sphsolid run --restart DIR [--set time.end=T]... [same options]
  *   sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b]
  *   sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]
@@ -43,7 +44,8 @@ static void usage(FILE *f) {
         "                          [--checkpoint-every T] [--checkpoint-wall S]\n"
         "                          [--progress-interval S] [--plot] [--no-work-limit]\n"
         "                          [--pair-geometry auto|stored|recomputed]\n"
-        "                          [--step-clock auto|device|host]\n"
+        "                          [--step-clock auto|device|host] [--substeps-per-launch N]\n"
+        "                          [--reduction auto|blocks|tree]\n"
         "       sphsolid run --restart DIR [--set time.end=T] [options as above]\n"
         "       sphsolid compare RUN_A RUN_B [--rtol X] [--atol X] [--fields a,b,...]\n"
         "       sphsolid relax SCENE [--set key=value]... [--out FILE] [--force]\n"
@@ -82,6 +84,12 @@ static void usage(FILE *f) {
         "          read after each, or the host, reading max |v| after every substep;\n"
         "          native: the thread team in one parallel region per advection step\n"
         "          (auto), or the host between substeps; all give the same steps\n"
+        "--substeps-per-launch  OpenCL: 1 launches each pass of each substep; N > 1 runs up\n"
+        "          to N substeps per launch in one work-group (the substep loop, small\n"
+        "          scenes); 0 (default): chosen by the particle count and the device; the\n"
+        "          same steps bit for bit (docs/backends.md)\n"
+        "--reduction  OpenCL: the reductions' first stage by blocks of particles (auto on\n"
+        "          CPU devices) or by a tree over each work-group (auto on GPUs)\n"
         "relax     relax the particles of the bodies with placement = \"relaxed\" ahead of a\n"
         "          run, save them to their relaxation.file and print the residuals;\n"
         "          --out FILE saves the one relaxed body to FILE, --force relaxes even\n"
@@ -166,6 +174,7 @@ static int cmd_run(int argc, char **argv) {
         if (strcmp(a, "--set") == 0 || strcmp(a, "--backend") == 0 || strcmp(a, "--device") == 0 ||
             strcmp(a, "--precision") == 0 || strcmp(a, "--out") == 0 ||
             strcmp(a, "--pair-geometry") == 0 || strcmp(a, "--step-clock") == 0 ||
+            strcmp(a, "--substeps-per-launch") == 0 || strcmp(a, "--reduction") == 0 ||
             strcmp(a, "--restart") == 0 || strcmp(a, "--checkpoint-every") == 0 ||
             strcmp(a, "--checkpoint-wall") == 0 || strcmp(a, "--progress-interval") == 0) {
             if (!value) {
@@ -218,6 +227,25 @@ static int cmd_run(int argc, char **argv) {
                 opt.backend.pair_geometry = (sph_pair_geometry)choice;
             else
                 opt.backend.step_clock = (sph_step_clock_mode)choice;
+        } else if (strcmp(a, "--substeps-per-launch") == 0) {
+            char *end;
+            errno = 0;
+            const long count = strtol(value, &end, 10);
+            if (errno || *end || end == value || count < 0 || count > 1000000) {
+                free(overrides);
+                return input_error("--substeps-per-launch %s: expected a whole number from 0 "
+                                   "(chosen by the run) to 1000000",
+                                   value);
+            }
+            opt.backend.substeps_per_launch = count;
+        } else if (strcmp(a, "--reduction") == 0) {
+            static const char *const reduction_names[] = {"auto", "blocks", "tree", NULL};
+            const int choice = choice_index(value, reduction_names);
+            if (choice < 0) {
+                free(overrides);
+                return input_error("--reduction %s: expected auto, blocks or tree", value);
+            }
+            opt.backend.reduction = (sph_reduction_mode)choice;
         } else if (strcmp(a, "--out") == 0) {
             out_dir = value;
         } else if (strcmp(a, "--restart") == 0) {

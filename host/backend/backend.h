@@ -49,6 +49,8 @@ typedef enum {
     SPH_STEP_CLOCK_HOST
 } sph_step_clock_mode;
 
+typedef enum { SPH_REDUCTION_AUTO, SPH_REDUCTION_BLOCKS, SPH_REDUCTION_TREE } sph_reduction_mode;
+
 typedef struct {
     sph_backend_kind kind;
     int device_index; /* OpenCL device (as listed by `sphsolid devices`); -1: choose */
@@ -56,6 +58,16 @@ typedef struct {
     bool profile;     /* time every phase (serialises the device queue) */
     sph_pair_geometry pair_geometry;
     sph_step_clock_mode step_clock;
+    /* OpenCL: acoustic substeps per launch.  0: chosen by the particle count
+     * and the device; 1: a launch per pass; N > 1: the substep loop
+     * (device/substep_loop.cl), at most N substeps per launch.  The native
+     * backend runs an advection step's substeps in one parallel region
+     * anyway and ignores it. */
+    long substeps_per_launch;
+    /* OpenCL: the reductions' first stage by blocks of SPH_WG particles
+     * (CPU devices) or by a tree over each work-group (GPUs); AUTO by the
+     * device, the others force one (tests run the GPUs' way on pocl) */
+    sph_reduction_mode reduction;
 } sph_backend_request;
 
 /* Result of a configuration rebuild. */
@@ -145,6 +157,9 @@ struct sph_backend {
      * separated by newlines: what this run compiled in (summary.json) */
     char program_kernels[8192];
     char choice_reason[256]; /* why this backend/device was chosen */
+    /* OpenCL: acoustic substeps per launch at most (1: a launch per pass,
+     * more: the substep loop); 0 on the native backend */
+    long substeps_per_launch;
     sph_features features;
     sph_field_info fields[FIELD_COUNT];
     int n;

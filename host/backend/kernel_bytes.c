@@ -228,12 +228,15 @@ double sph_phase_bytes(const sph_backend *be, const sph_profile_record *rec,
                        const sph_bytes_sizes *sizes, char *kernels, size_t cap) {
     kernels[0] = '\0';
     const bool native = be->program_kernels[0] == '\0';
-    if (native && strcmp(rec->name, "acoustic substep") == 0) {
+    if ((native && strcmp(rec->name, "acoustic substep") == 0) ||
+        (!native && strcmp(rec->name, "acoustic_substep_loop") == 0)) {
         /* the native substep runs the passes of the OpenCL kernels fused in
          * one parallel region (backend_cpu_kernels.c, solid_substep_passes,
-         * tl_substep_passes), every substep of the run inside this phase;
-         * the fluids' passes are not the OpenCL kernels one for one: no
-         * count */
+         * tl_substep_passes), every substep of the run inside this phase,
+         * and OpenCL's substep loop runs them in one work-group
+         * (device/substep_loop.cl), the substeps of a launch in one call:
+         * the passes' bytes per substep; the fluids' passes are not the
+         * OpenCL kernels one for one: no count */
         const sph_features *f = &be->features;
         if (FORM_IS_EULERIAN((int)f->formulation) || rec->calls <= 0) return -1.0;
         const char *list[6];

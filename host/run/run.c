@@ -352,6 +352,10 @@ static json_object *summary_json(const sph_simulation *sim, const sph_bytes_size
     json_object_object_add(root, "backend_choice", sph_json_string(be->choice_reason));
     json_object_object_add(root, "precision", sph_json_string(sph_precision_name(&sim->features)));
     json_object_object_add(root, "build_options", sph_json_string(be->build_options));
+    /* OpenCL: 1, a launch per pass, or the substep loop's most per launch */
+    if (be->substeps_per_launch > 0)
+        json_object_object_add(root, "substeps_per_launch",
+                               json_object_new_int64(be->substeps_per_launch));
     json_object *features = json_object_new_object();
     const sph_features *f = &sim->features;
     json_object_object_add(features, "dimension", json_object_new_int(f->dim));

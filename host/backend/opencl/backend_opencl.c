@@ -71,6 +71,8 @@ typedef struct {
     sph_cl_kernel eulerian_momentum_rate, eulerian_mass_energy_rate, eulerian_update;
     sph_cl_kernel eulerian_rates, eulerian_rk_update; /* time.integrator "ssp-rk2", "ssp-rk3" */
     sph_cl_kernel eulerian_far_field;                 /* far field only */
+    /* the substep loop (substep_loop.cl), from its own program */
+    sph_cl_kernel substep_loop;
 } kernel_set;
 
 typedef struct {
@@ -79,6 +81,7 @@ typedef struct {
     cl_context ctx;
     cl_command_queue queue;
     cl_program program;
+    cl_program loop_program; /* the substep loop's, when a launch runs several substeps */
     kernel_set k;
     cl_mem field[FIELD_COUNT], spare[FIELD_COUNT];
     cl_mem pair_w;   /* TLSPH only */
@@ -101,6 +104,7 @@ typedef struct {
     bool row_major;
     bool pair_recompute; /* device/sph_pair_geometry.h */
     bool device_clock;   /* the substeps advance the step clock themselves */
+    size_t loop_wg;      /* the substep loop's work-group (SPH_LOOP_WG); 0 without it */
     long cells_allocated;
     int periodic_mask; /* fluids: periodic axes of the cell grid (host/model/grid.h) */
     double period[3];
@@ -741,8 +745,18 @@ static sph_status ocl_advance(sph_backend *be, double *clock, long limit, sph_er
         "writing the step clock", err);
     while (!st && clock[CLOCK_HALTED] == CLOCK_RUNNING && clock[CLOCK_COUNT] < (double)limit) {
         const long left = limit - (long)clock[CLOCK_COUNT];
-        const long batch = substeps_to_end(clock, left < 64 ? left : 64);
-        for (long b = 0; b < batch && !st; ++b) st = enqueue_substep(o, NULL, err);
+        const long cap = o->loop_wg ? be->substeps_per_launch : 64;
+        const long batch = substeps_to_end(clock, left < cap ? left : cap);
+        if (o->loop_wg) {
+            /* one launch of the substep loop, which stops where the clock
+             * halts (device/substep_loop.cl) */
+            const cl_int count = (cl_int)batch, stages = be->features.fluid_rk_stages;
+            const sph_cl_arg args[] = {{"substeps", sizeof count, &count},
+                                       {"stages", sizeof stages, &stages}};
+            st = launch(o, &o->k.substep_loop, o->loop_wg, o->loop_wg, args, 2, err);
+        } else {
+            for (long b = 0; b < batch && !st; ++b) st = enqueue_substep(o, NULL, err);
+        }
         const double t0 = be->profiling ? sph_wall_seconds() : 0.0;
         if (!st)
             st = cl_check(clEnqueueReadBuffer(o->queue, o->step_clock, CL_TRUE, 0, bytes, clock, 0,
@@ -858,6 +872,7 @@ static void ocl_destroy(sph_backend *be) {
                           &o->step_clock, &o->keys_sorted,  &o->blocks_done};
         for (size_t k = 0; k < sizeof bufs / sizeof bufs[0]; ++k) release(bufs[k]);
         if (o->program) clReleaseProgram(o->program);
+        if (o->loop_program) clReleaseProgram(o->loop_program);
         if (o->queue) clReleaseCommandQueue(o->queue);
         if (o->ctx) clReleaseContext(o->ctx);
         free(o);
@@ -967,6 +982,120 @@ static size_t pow2_floor(size_t x) {
     return p;
 }
 
+/* The substep loop (device/substep_loop.cl) runs all of a substep's passes
+ * in one work-group, which pays where launches cost more than the passes'
+ * work.  Auto: on GPUs up to LOOP_GPU_PARTICLES_PER_ITEM particles per
+ * work-item of a group of up to 1024 (an estimate from the H200's 63 us per
+ * substep of the 1 612-particle plate, which moves 3 MB: no GPU has run the
+ * loop yet); on CPU devices, where pocl runs a work-group on one thread, up
+ * to LOOP_CPU_MAX_PARTICLES, measured on two idle cores (the 2D plate: 352
+ * particles 1.2x faster with the loop, 668 even, 1 612 1.6x slower;
+ * docs/benchmarks.md, "The substep loop"). */
+#define LOOP_GPU_PARTICLES_PER_ITEM 4
+#define LOOP_GPU_MAX_WG             1024
+#define LOOP_CPU_MAX_PARTICLES      512
+#define LOOP_DEFAULT_SUBSTEPS       64
+
+/* Why this scene cannot run the substep loop, or NULL.  Its work-group is
+ * never larger than the particle count, so at least SPH_WG particles: on
+ * pocl 3.1 a group with work-items that had no particle gave wrong results
+ * with the averaged rotation (heap corruption; the 2D plate, 233 particles
+ * in a group of 256), the same program bit-identical to the per-pass
+ * launches under -cl-opt-disable or with every work-item given a particle;
+ * the cause is not established (docs/backends.md, "The substep loop"). */
+static const char *substep_loop_unavailable(const ocl_impl *o) {
+    if (!o->device_clock)
+        return "it needs the device step clock (double precision on the device, not "
+               "--step-clock host)";
+    if ((size_t)o->n < o->wg) return "it needs at least as many particles as a reduction group";
+    return NULL;
+}
+
+/* The loop kernel of the formulation (device/substep_loop.cl). */
+static const char *substep_loop_kernel(const sph_features *f) {
+    return f->formulation == SPH_FORMULATION_TLSPH ? "tl_substep_loop"
+           : FORM_IS_EULERIAN((int)f->formulation) ? "eulerian_substep_loop"
+                                                   : "acoustic_substep_loop";
+}
+
+static sph_status build_loop_program(sph_backend *be, ocl_impl *o, sph_error *err) {
+    char options[sizeof be->build_options + 64];
+    snprintf(options, sizeof options, "%s -DSPH_SUBSTEP_LOOP=1 -DSPH_LOOP_WG=%zu",
+             be->build_options, o->loop_wg);
+    const char *files[] = {"substep_loop.cl"};
+    sph_status st =
+        sph_opencl_build_program(o->ctx, o->dev.device, files, 1, options, &o->loop_program, err);
+    if (!st)
+        st = sph_cl_kernel_create(o->loop_program, substep_loop_kernel(&be->features), o->res,
+                                  RES_COUNT, &o->k.substep_loop, err);
+    return st;
+}
+
+/* Choose the substeps per launch (req->substeps_per_launch, or by the
+ * particle count and the device) and build the loop's program when more
+ * than one. */
+static sph_status create_substep_loop(sph_backend *be, ocl_impl *o, const sph_backend_request *req,
+                                      sph_error *err) {
+    be->substeps_per_launch = 1;
+    const char *unavailable = substep_loop_unavailable(o);
+    const bool gpu = !o->row_major;
+    /* a power of two from SPH_WG up, at most the particle count (see
+     * substep_loop_unavailable) */
+    const size_t most = gpu ? LOOP_GPU_MAX_WG : 4 * o->wg;
+    size_t wg = o->wg;
+    while (wg * 2 <= most && wg * 2 <= o->dev.max_work_group && wg * 2 <= (size_t)o->n) wg *= 2;
+    const long auto_max =
+        gpu ? (long)(LOOP_GPU_PARTICLES_PER_ITEM * wg) : (long)LOOP_CPU_MAX_PARTICLES;
+    long per_launch = req->substeps_per_launch;
+    if (per_launch > 1 && unavailable)
+        return sph_fail(err, SPH_ERR_INPUT,
+                        "--substeps-per-launch %ld: the substep loop is "
+                        "not available for this run: %s",
+                        per_launch, unavailable);
+    if (per_launch == 0) per_launch = !unavailable && o->n <= auto_max ? LOOP_DEFAULT_SUBSTEPS : 1;
+    if (per_launch <= 1) return SPH_OK;
+    o->loop_wg = wg;
+    sph_status st = build_loop_program(be, o, err);
+    /* a kernel this large may not run in a group of that size (its
+     * registers): the largest power of two it allows, if at least SPH_WG */
+    size_t allowed = 0;
+    if (!st)
+        st = cl_check(clGetKernelWorkGroupInfo(o->k.substep_loop.kernel, o->dev.device,
+                                               CL_KERNEL_WORK_GROUP_SIZE, sizeof allowed, &allowed,
+                                               NULL),
+                      "querying the substep loop's work-group size", err);
+    if (!st && allowed < o->loop_wg && pow2_floor(allowed) >= o->wg) {
+        sph_cl_kernel_release(&o->k.substep_loop);
+        clReleaseProgram(o->loop_program);
+        o->loop_program = NULL;
+        o->loop_wg = pow2_floor(allowed);
+        st = build_loop_program(be, o, err);
+    } else if (!st && allowed < o->loop_wg) {
+        /* chosen by the run: the launches per pass; asked for: an error */
+        sph_cl_kernel_release(&o->k.substep_loop);
+        clReleaseProgram(o->loop_program);
+        o->loop_program = NULL;
+        o->loop_wg = 0;
+        if (!req->substeps_per_launch) return SPH_OK;
+        st = sph_fail(err, SPH_ERR_RUNTIME,
+                      "--substeps-per-launch %ld: the substep loop needs work-groups of %zu on "
+                      "OpenCL device %s, which allows %zu for it; use --substeps-per-launch 1",
+                      per_launch, o->wg, o->dev.name, allowed);
+    }
+    if (st) return st;
+    be->substeps_per_launch = per_launch;
+    const size_t used = strlen(be->build_options);
+    snprintf(be->build_options + used, sizeof be->build_options - used,
+             "; substep loop: -DSPH_SUBSTEP_LOOP=1 -DSPH_LOOP_WG=%zu", o->loop_wg);
+    if (!req->quiet)
+        fprintf(stderr,
+                "sphsolid: substep loop: up to %ld acoustic substeps per launch, one work-group "
+                "of %zu (%s)\n",
+                per_launch, o->loop_wg,
+                req->substeps_per_launch ? "--substeps-per-launch" : "chosen by particle count");
+    return SPH_OK;
+}
+
 sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_index,
                                      const sph_features *f, const sph_params_f64 *prm, int n,
                                      sph_backend **out, sph_error *err) {
@@ -1061,7 +1190,9 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     /* The reductions' first stage on CPU devices: a work-item per block of
      * SPH_WG particles, no barriers (device/reduction.cl); on GPUs a
      * work-item per particle and a tree over each group. */
-    o->reduce_blocks = o->row_major;
+    o->reduce_blocks = req->reduction == SPH_REDUCTION_AUTO
+                           ? o->row_major
+                           : req->reduction == SPH_REDUCTION_BLOCKS;
     o->reduce_items = o->reduce_blocks ? (size_t)o->ngroups : (size_t)o->ngroups * o->wg;
     o->substep_ncomp = sph_substep_ncomp(f);
 
@@ -1134,6 +1265,7 @@ sph_status sph_backend_opencl_create(const sph_backend_request *req, int device_
     if (st) goto fail;
     fill_resources(be, o);
     st = create_kernels(o, err);
+    if (!st) st = create_substep_loop(be, o, req, err);
     if (!st) describe_kernels(be, o);
     if (st) goto fail;
     *out = be;
