@@ -2,10 +2,11 @@
  * enough that launches, not bytes, bound their substeps (issue 33, "small
  * scenes").
  *
- * One work-group of SPH_LOOP_WG items runs up to `substeps` substeps of an
- * advection step: each pass of a substep (the kernels of acoustic_step.cl,
- * which this program, SPH_SUBSTEP_LOOP, compiles as functions of the item
- * index) goes over the particles in strides of the group, a barrier on
+ * One work-group of SPH_LOOP_WG items runs up to `substeps` substeps: each
+ * pass of a substep (the kernels of acoustic_step.cl, tl_step.cl or
+ * eulerian_step.cl, which this program, SPH_SUBSTEP_LOOP, compiles as
+ * functions of the item index) goes over the particles in strides of the
+ * group (never larger than the particle count, backend_opencl.c), a barrier on
  * global memory stands where one launch ended and the next began, and the
  * substep ends in the reduction and the step clock's advance that
  * substep_reduce and substep_finalize (substep_reduce_finish on CPU devices)
