@@ -1031,6 +1031,12 @@ static sph_status build_loop_program(sph_backend *be, ocl_impl *o, sph_error *er
     return st;
 }
 
+static void drop_loop_program(ocl_impl *o) {
+    sph_cl_kernel_release(&o->k.substep_loop);
+    if (o->loop_program) clReleaseProgram(o->loop_program);
+    o->loop_program = NULL;
+}
+
 /* Choose the substeps per launch (req->substeps_per_launch, or by the
  * particle count and the device) and build the loop's program when more
  * than one. */
@@ -1065,16 +1071,12 @@ static sph_status create_substep_loop(sph_backend *be, ocl_impl *o, const sph_ba
                                                NULL),
                       "querying the substep loop's work-group size", err);
     if (!st && allowed < o->loop_wg && pow2_floor(allowed) >= o->wg) {
-        sph_cl_kernel_release(&o->k.substep_loop);
-        clReleaseProgram(o->loop_program);
-        o->loop_program = NULL;
+        drop_loop_program(o);
         o->loop_wg = pow2_floor(allowed);
         st = build_loop_program(be, o, err);
     } else if (!st && allowed < o->loop_wg) {
         /* chosen by the run: the launches per pass; asked for: an error */
-        sph_cl_kernel_release(&o->k.substep_loop);
-        clReleaseProgram(o->loop_program);
-        o->loop_program = NULL;
+        drop_loop_program(o);
         o->loop_wg = 0;
         if (!req->substeps_per_launch) return SPH_OK;
         st = sph_fail(err, SPH_ERR_RUNTIME,
