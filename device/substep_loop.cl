@@ -160,8 +160,8 @@ __kernel __attribute__((reqd_work_group_size(SPH_LOOP_WG, 1, 1))) void eulerian_
 #    if SPH_FLUID_RK
         for (int stage = 0; stage < stages; ++stage) {
             FOR_MY_PARTICLES(i) {
-                eulerian_rates(i, n, stage, prm, PAIR_ROWS_ARGS, pair_e, pair_dwv, pair_inv_r, rho,
-                               vel, vol, pressure, mass_rate, momentum_rate,
+                eulerian_rates(i, n, stage, step_clock, prm, PAIR_ROWS_ARGS, pair_e, pair_dwv,
+                               pair_inv_r, rho, vel, vol, pressure, mass_rate, momentum_rate,
                                vorticity ENERGY_RATE_ARGS SOUND_ARG KIND_ARGS WALL_FORCE_ARG);
             }
             PASS_END;

@@ -242,7 +242,7 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
             for (int stage = 0; stage < stages; ++stage) {
 #    pragma omp for schedule(static) nowait
                 for (int i = 0; i < n; ++i)
-                    eulerian_rates(i, n, stage, prm, FLUID_ROWS(b), (const real *)b->pair_e,
+                    eulerian_rates(i, n, stage, dt, prm, FLUID_ROWS(b), (const real *)b->pair_e,
                                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
                                    F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
                                    F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),

@@ -646,7 +646,7 @@ static sph_status enqueue_substep(ocl_impl *o, const sph_cl_arg *dt_arg, sph_err
             sph_cl_arg args[3] = {{"stage", sizeof(cl_int), &stage},
                                   {"stages", sizeof(cl_int), &stages}};
             if (dt_arg) args[2] = *dt_arg;
-            st = launch(o, &o->k.eulerian_rates, items, o->item_wg, args, 2, err);
+            st = launch(o, &o->k.eulerian_rates, items, o->item_wg, args, 2 + ndt, err);
             if (!st)
                 st = launch(o, &o->k.eulerian_rk_update, items, o->item_wg, args, 2 + ndt, err);
         }
