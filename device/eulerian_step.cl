@@ -29,13 +29,15 @@
  *   1. eulerian_momentum_rate: F_i = d(m v)_i/dt from the state n, kept as
  *      v' = (m v)^{n+1} / m^n = v^n + dt F / m^n (field vel_stage);
  *   2. eulerian_mass_energy_rate: dm_i/dt and d(E w)_i/dt from (rho^n,
- *      v', p^n, E^n), and the vorticity of v' for the snapshots;
+ *      v', p^n, E^n);
  *   3. eulerian_update: m, (m v)^{n+1} = m^n v' and v = (m v) / m,
  *      rho = m / w, E w, p by the EOS (and the compressible sound speed).
  * Each pass reads only what the passes before wrote: race-free without
- * atomics.  The native backend runs steps 1 and 2 with each fluid pair
- * summed once ("the native backend's two-stage passes sum each fluid pair
- * once", below): the same terms, summed in another order.
+ * atomics.  The vorticity is no part of a step: eulerian_vorticity forms it
+ * from the state a snapshot writes, when it writes one.  The native backend
+ * runs steps 1 and 2 with each fluid pair summed once ("the native backend's
+ * two-stage passes sum each fluid pair once", below): the same terms, summed
+ * in another order.
  */
 #ifndef EULERIAN_STEP_CL
 #define EULERIAN_STEP_CL
@@ -445,34 +447,27 @@ FN_HOT void momentum_lanes_add(lanes *flux, lanes *visc, const fluid_state_lanes
 }
 
 /* The mass and energy rates' sums over the fluid pairs, in lanes (the
- * second two-stage pass and SSP-RK2's rates): the mass flux
- * rho* (v* . e) dW w_j, the curl g x (v_j - v_i) (NSPIN components used)
- * and, compressible, the energy flux (E* + p*)(v* . e) dW w_j and the
- * viscous work, pairwise: the pair's viscous force on i, -visc_w (v_j - v_i),
- * dotted with the pair's mean velocity (antisymmetric force, symmetric
- * mean, so the work cancels in the sum over all particles). */
+ * second two-stage pass and SSP-RK's rates): the mass flux
+ * rho* (v* . e) dW w_j and, compressible, the energy flux
+ * (E* + p*)(v* . e) dW w_j and the viscous work, pairwise: the pair's viscous force on i, -visc_w
+ * (v_j - v_i), dotted with the pair's mean velocity (antisymmetric force, symmetric mean, so the
+ * work cancels in the sum over all particles). */
 typedef struct {
-    lanes mass, curl[3], energy, heat;
+    lanes mass, energy, heat;
 } mass_energy_lanes;
 FN mass_energy_lanes mass_energy_lanes_zero(void) {
     mass_energy_lanes z;
     z.mass = z.energy = z.heat = lanes_zero();
-    UNROLL for (int a = 0; a < 3; ++a) z.curl[a] = lanes_zero();
     return z;
 }
 FN_HOT void mass_energy_lanes_add(mass_energy_lanes *acc, const fluid_state_lanes s, const lanes vn,
-                                  const lanes_vec e, const lanes dwv, const lanes visc_w,
-                                  const vec v_i, const lanes_vec v_j) {
+                                  const lanes dwv, const lanes visc_w, const vec v_i,
+                                  const lanes_vec v_j) {
     acc->mass += s.rho * vn * dwv;
-    lanes_vec g, dv;
-    UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-        g.c[a] = e.c[a] * dwv;
-        dv.c[a] = v_j.c[a] - v_i.c[a];
-    }
-    curl_add_lanes(acc->curl, g, dv);
 #    if SPH_HAS_COMPRESSIBLE
     acc->energy += (s.energy + s.p) * vn * dwv;
-    lanes_vec f_pair, v_mean;
+    lanes_vec dv, f_pair, v_mean;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = v_j.c[a] - v_i.c[a];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) {
         f_pair.c[a] = dv.c[a] * (-visc_w);
         v_mean.c[a] = (v_i.c[a] + v_j.c[a]) * R(0.5);
@@ -480,27 +475,27 @@ FN_HOT void mass_energy_lanes_add(mass_energy_lanes *acc, const fluid_state_lane
     acc->heat += lanes_dot(f_pair, v_mean);
 #    else
     (void)visc_w;
+    (void)v_i;
+    (void)v_j;
 #    endif
 }
-/* The lanes' sums in lane order, the wall pairs' curl added last. */
+/* The lanes' sums in lane order. */
 typedef struct {
-    real mass;
-    vec curl;
-    real energy, heat;
+    real mass, energy, heat;
 } mass_energy_sums;
-FN mass_energy_sums mass_energy_lanes_sum(const mass_energy_lanes acc, const vec wall_curl) {
+FN mass_energy_sums mass_energy_lanes_sum(const mass_energy_lanes acc) {
     mass_energy_sums t;
     t.mass = t.energy = t.heat = R(0);
-    t.curl = vec_zero();
     UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
         t.mass += LANE(acc.mass, l);
-        UNROLL for (int a = 0; a < NSPIN; ++a) t.curl.c[a] += LANE(acc.curl[a], l);
         t.energy += LANE(acc.energy, l);
         t.heat += LANE(acc.heat, l);
     }
-    t.curl = vec_add(t.curl, wall_curl);
     return t;
 }
+/* A wall pair that a pass skips (the mass and energy rates: no mass or
+ * energy crosses a wall). */
+#    define SKIP_WALL_PAIR(slot_, j_) ((void)(slot_), (void)(j_))
 
 #    if SPH_FLUID_KINDS
 /* One wall pair (i, j) of the two-stage passes, from its slot: its frozen
@@ -547,12 +542,6 @@ FN vec wall_pairs_force(const vec wall_flux, const vec wall_visc, const real w_i
         }
     }
     return vec_add(wall_p, wall_v);
-}
-/* The mass pass's wall pair: no mass crosses the wall (against the
- * mirrored state the linearised solver's v* is 0); the vorticity sees the
- * wall at rest. */
-FN vec curl_of_wall_pair(const vec curl, const vec v_i, const wall_pair w) {
-    return curl_add(curl, vec_scale(w.e, w.dwv), vec_scale(v_i, R(-1)));
 }
 #    endif
 
@@ -700,20 +689,17 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     vec_store(vel_stage, n, i, vec_axpy(v_i, dt / mass[i], force));
 }
 
-/* Stage 2: dm_i/dt and d(E w)_i/dt from (rho^n, v', p^n, E^n), and the
- * vorticity of v' (curl v = sum_j (v_j - v_i) x grad'W_ij w_j: 2D its z
- * component, 3D all three). */
+/* Stage 2: dm_i/dt and d(E w)_i/dt from (rho^n, v', p^n, E^n). */
 /* buffers of eulerian_mass_energy_rate: reads step_clock:small row_start:int*n row_walls:int*n
  * nbr_j:int*pairs nbr_count:int*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs
- * rho vel_stage vol pressure energy sound_speed kind normal; writes mass_rate vorticity
- * energy_rate */
+ * rho vel_stage vol pressure energy sound_speed kind normal; writes mass_rate energy_rate */
 KERNEL void eulerian_mass_energy_rate(
     ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
     GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
     GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
     GLOBAL const real *restrict vel_stage, GLOBAL const real *restrict vol,
-    GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
-    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
+    GLOBAL const real *restrict pressure,
+    GLOBAL real *restrict mass_rate ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
     STEP_DT_BEGIN;
     (void)dt;
     const int i = ITEM_ID;
@@ -722,7 +708,7 @@ KERNEL void eulerian_mass_energy_rate(
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel_stage, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
-    /* the fluid pairs' sums in lanes (sph_prelude.h), the walls' curl apart */
+    /* the fluid pairs' sums in lanes (sph_prelude.h) */
     mass_energy_lanes acc = mass_energy_lanes_zero();
 #        if !SPH_HAS_COMPRESSIBLE
     (void)pair_inv_r;
@@ -730,28 +716,24 @@ KERNEL void eulerian_mass_energy_rate(
 #        if SPH_FLUID_KINDS
     (void)normal;
 #        endif
-    vec wall_curl = vec_zero(); /* NSPIN components used */
     /* a wall particle's rates are never used (the update leaves it alone) */
     const int count = IS_WALL(i) ? 0 : ROW_COUNT(i);
-    /* the lanes' pairs: all, or the fluid pairs before the row's walls */
+    /* the lanes' pairs: the fluid pairs before the row's walls, which carry
+     * no mass */
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
-#        define CURL_WALL_PAIR(slot_, j_)                                                          \
-            wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot_, j_))
     for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
         MASS_PASS_INV_R_DECL;
-        PAIR_LANES_STATES(MASS_PASS_INV_R, vel_stage, CURL_WALL_PAIR);
+        PAIR_LANES_STATES(MASS_PASS_INV_R, vel_stage, SKIP_WALL_PAIR);
 #        if SPH_HAS_COMPRESSIBLE
         const lanes visc_w = dwv * inv_r * keep;
 #        else
         const lanes visc_w = lanes_zero();
 #        endif
-        mass_energy_lanes_add(&acc, s, lanes_dot(s.v, e), e, dwv * keep, visc_w, v_i, q.v);
+        mass_energy_lanes_add(&acc, s, lanes_dot(s.v, e), dwv * keep, visc_w, v_i, q.v);
     }
-    WALL_PAIRS_AFTER_LANES(CURL_WALL_PAIR)
-    const mass_energy_sums t = mass_energy_lanes_sum(acc, wall_curl);
+    const mass_energy_sums t = mass_energy_lanes_sum(acc);
     const real w_i = vol[i];
     mass_rate[i] = R(-2) * w_i * t.mass;
-    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = t.curl.c[a];
 #        if SPH_HAS_COMPRESSIBLE
     energy_rate[i] = R(-2) * w_i * t.energy + R(2) * prm->materials[0].viscosity * w_i * t.heat;
 #        endif
@@ -769,8 +751,7 @@ KERNEL void eulerian_mass_energy_rate(
  * fluid pairs with j > i, padded with empty pairs (j = i, zero geometry)
  * to whole lanes, then its wall pairs, then its far pairs (below;
  * host/backend/cpu/backend_cpu.c, build_once_rows); each is solved once, its terms are
- * added to i's sums in lanes and subtracted from j's sums one by one.  The curl is not
- * antisymmetric: j gets the pair's cross product times dW w_i where i gets it times dW w_j.
+ * added to i's sums in lanes and subtracted from j's sums one by one.
  *
  * Scattering into j races with the row of j on another thread.  The rows
  * are cut into blocks of pair_block consecutive particles, at least as long
@@ -856,8 +837,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
 FN void eulerian_momentum_stage(const int i, const int n, const real dt, CONSTANT sph_params *prm,
                                 GLOBAL const real *restrict vel, GLOBAL const real *restrict mass,
                                 GLOBAL real *restrict vel_stage, GLOBAL real *restrict force_sum,
-                                GLOBAL real *restrict mass_rate,
-                                GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS FIXED_PARAM
+                                GLOBAL real *restrict mass_rate ENERGY_RATE_PARAMS FIXED_PARAM
                                     KIND_PARAMS) {
 #            if SPH_FLUID_KINDS
     (void)normal;
@@ -869,24 +849,23 @@ FN void eulerian_momentum_stage(const int i, const int n, const real dt, CONSTAN
     vec_store(vel_stage, n, i, v);
     vec_store(force_sum, n, i, vec_zero());
     mass_rate[i] = R(0);
-    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = R(0);
 #            if SPH_HAS_COMPRESSIBLE
     (void)energy;
     energy_rate[i] = R(0);
 #            endif
 }
 
-/* Stage 2 on row i's fluid pairs k_begin <= k < k_end, then its wall pairs
- * k_end <= k < walls_end (their curl): dm/dt, d(E w)/dt and the vorticity,
- * i's share and j's, into the sums eulerian_momentum_stage zeroed. */
+/* Stage 2 on row i's fluid pairs k_begin <= k < k_end (its wall pairs
+ * carry no mass): dm/dt and d(E w)/dt, i's share and j's, into the sums
+ * eulerian_momentum_stage zeroed. */
 FN_HOT void eulerian_mass_energy_pairs(
     const int i, const int n, const int k_begin, const int k_end, const int walls_end,
     CONSTANT sph_params *prm, ONCE_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
     GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
     GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel_stage,
     GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
-    GLOBAL real *restrict mass_rate,
-    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
+    GLOBAL real *restrict mass_rate ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
+    (void)walls_end;
     if (IS_WALL(i)) return;
 #            if SPH_FLUID_KINDS
     (void)normal;
@@ -896,8 +875,7 @@ FN_HOT void eulerian_mass_energy_pairs(
     const vec v_i = vec_load(vel_stage, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
     const real w_i = vol[i];
-    lanes lane_mass = lanes_zero(), lane_energy = lanes_zero(), lane_curl[3];
-    UNROLL for (int a = 0; a < 3; ++a) lane_curl[a] = lanes_zero();
+    lanes lane_mass = lanes_zero(), lane_energy = lanes_zero();
 #            if SPH_HAS_COMPRESSIBLE
     const real mu = prm->materials[0].viscosity;
 #            else
@@ -911,21 +889,11 @@ FN_HOT void eulerian_mass_energy_pairs(
         const lanes weight = R(-2) * w_i * dwv * keep;
         const lanes mass_term = weight * (s.rho * vn);
         lane_mass += mass_term;
-        lanes_vec dv;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = q.v.c[a] - v_i.c[a];
-        /* e x (v_j - v_i): i's curl takes it times dW w_j, j's times dW w_i */
-        lanes cross[3];
-        UNROLL for (int a = 0; a < 3; ++a) cross[a] = lanes_zero();
-        curl_add_lanes(cross, e, dv);
         const int live = lanes_end - k0 < SPH_PAIR_LANES ? lanes_end - k0 : SPH_PAIR_LANES;
-        real w_s[SPH_PAIR_LANES];
-        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) w_s[l] =
-            l < live ? vol[nbr_j[ROW_SLOT(i, k0 + l)]] : w_i;
-        const lanes dwv_k = dwv * keep, dw_i = dwv_k * (w_i / LANES_FROM(w_s));
-        UNROLL for (int a = 0; a < NSPIN; ++a) lane_curl[a] += dwv_k * cross[a];
 #            if SPH_HAS_COMPRESSIBLE
         /* the energy flux and the pairwise viscous work (eulerian_mass_energy_rate) */
-        lanes_vec v_mean;
+        lanes_vec dv, v_mean;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = q.v.c[a] - v_i.c[a];
         UNROLL for (int a = 0; a < SPH_DIM; ++a) v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
         const lanes energy_term =
             weight * ((s.energy + s.p) * vn + mu * inv_r * lanes_dot(dv, v_mean));
@@ -936,29 +904,18 @@ FN_HOT void eulerian_mass_energy_pairs(
         for (int l = 0; l < live; ++l) {
             const int j = nbr_j[ROW_SLOT(i, k0 + l)];
             mass_rate[j] -= LANE(mass_term, l);
-            UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + j] +=
-                LANE(dw_i, l) * LANE(cross[a], l);
 #            if SPH_HAS_COMPRESSIBLE
             energy_rate[j] -= LANE(energy_term, l);
 #            endif
         }
         (void)energy_term;
     }
-    vec wall_curl = vec_zero(); /* NSPIN components used */
-    for (int k = k_end; k < walls_end; ++k) {
-        const int slot = ROW_SLOT(i, k);
-        wall_curl = curl_of_wall_pair(wall_curl, v_i, WALL_PAIR_ARGS(slot, nbr_j[slot]));
-    }
     real mass_sum = R(0), energy_sum = R(0);
-    vec curl = vec_zero();
     UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
         mass_sum += LANE(lane_mass, l);
         energy_sum += LANE(lane_energy, l);
-        UNROLL for (int a = 0; a < NSPIN; ++a) curl.c[a] += LANE(lane_curl[a], l);
     }
-    curl = vec_add(curl, wall_curl);
     mass_rate[i] += mass_sum;
-    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] += curl.c[a];
 #            if SPH_HAS_COMPRESSIBLE
     energy_rate[i] += energy_sum;
 #            else
@@ -1033,7 +990,7 @@ KERNEL void eulerian_update(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_
  * eulerian_rates evaluates L from one state in one pair loop, one Riemann
  * problem per pair, and eulerian_rk_update takes the stage.  The wall force
  * is the step's weighted mean of the stages' (1/2, 1/2; 1/6, 1/6, 2/3: the
- * force the step applies), the vorticity that of the last stage's state.
+ * force the step applies).
  * Fixed-state, wall and far-field particles keep their state. */
 
 /* a of the stage: the weight of U^n in the stage's new state */
@@ -1049,22 +1006,20 @@ FN real rk_force_keep(const int stage) {
 }
 
 /* (a halted clock makes it a no-op, as the update: the substeps the host
- * enqueued past an output time left the stage rates, the vorticity and the
- * wall forces of a state that was not the step's, and the ideal-gas
- * Taylor-Green vortex's vorticity at t = 0.5 s differed by 8e-4 from the
- * host clock's run) */
+ * enqueued past an output time left the stage rates and the wall forces of
+ * a state that was not the step's; the time series' forces come from them) */
 /* buffers of eulerian_rates: reads step_clock:small row_start:int*n row_walls:int*n
  * nbr_j:int*pairs nbr_count:int*n pair_e:real*d*pairs pair_dwv:real*pairs pair_inv_r:real*pairs
- * rho vel vol pressure energy sound_speed kind normal; writes mass_rate momentum_rate vorticity
- * energy_rate; updates wall_force */
-KERNEL void eulerian_rates(
-    ITEM_PARAM const int n, const int stage, STEP_DT_PARAM, CONSTANT sph_params *prm,
-    PAIR_ROWS_PARAMS, GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
-    GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
-    GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
-    GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
-    GLOBAL real *restrict momentum_rate,
-    GLOBAL real *restrict vorticity ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS WALL_FORCE_PARAM) {
+ * rho vel vol pressure energy sound_speed kind normal; writes mass_rate momentum_rate energy_rate;
+ * updates wall_force */
+KERNEL void eulerian_rates(ITEM_PARAM const int n, const int stage, STEP_DT_PARAM,
+                           CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
+                           GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+                           GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+                           GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
+                           GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
+                           GLOBAL real *restrict momentum_rate ENERGY_RATE_PARAMS SOUND_PARAM
+                               KIND_PARAMS WALL_FORCE_PARAM) {
     STEP_DT_BEGIN;
     (void)dt;
     const int i = ITEM_ID;
@@ -1078,24 +1033,20 @@ KERNEL void eulerian_rates(
     lanes lane_flux[SPH_DIM], lane_visc[SPH_DIM];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_flux[a] = lane_visc[a] = lanes_zero();
     mass_energy_lanes acc = mass_energy_lanes_zero();
-    vec wall_flux = vec_zero(), wall_visc = vec_zero(), wall_curl = vec_zero();
+    vec wall_flux = vec_zero(), wall_visc = vec_zero();
     /* a wall particle's rates are never used */
     const int count = IS_WALL(i) ? 0 : ROW_COUNT(i);
     const int lanes_end = count > 0 ? count - ROW_WALL_PAIRS(i) : 0;
     /* a wall pair: as the two-stage passes' (no mass or energy crosses it) */
 #        define RATES_WALL_PAIR(slot_, j_)                                                         \
-            do {                                                                                   \
-                const wall_pair w_ = WALL_PAIR_ARGS(slot_, j_);                                    \
-                momentum_wall_pair(solver, q_i, w_, &wall_flux, &wall_visc);                       \
-                wall_curl = curl_of_wall_pair(wall_curl, v_i, w_);                                 \
-            } while (0)
+            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot_, j_), &wall_flux, &wall_visc)
     for (int k0 = 0; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
         lanes inv_r;
         PAIR_LANES_STATES(&inv_r, vel, RATES_WALL_PAIR);
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
         const lanes vn = lanes_dot(s.v, e);
         momentum_lanes_add(lane_flux, lane_visc, s, vn, e, dwv_k, visc_w, v_i, q.v);
-        mass_energy_lanes_add(&acc, s, vn, e, dwv_k, visc_w, v_i, q.v);
+        mass_energy_lanes_add(&acc, s, vn, dwv_k, visc_w, v_i, q.v);
     }
     WALL_PAIRS_AFTER_LANES(RATES_WALL_PAIR)
     vec flux = vec_zero(), visc = vec_zero();
@@ -1103,7 +1054,7 @@ KERNEL void eulerian_rates(
         flux.c[a] += LANE(lane_flux[a], l);
         visc.c[a] += LANE(lane_visc[a], l);
     }
-    const mass_energy_sums t = mass_energy_lanes_sum(acc, wall_curl);
+    const mass_energy_sums t = mass_energy_lanes_sum(acc);
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
@@ -1125,7 +1076,6 @@ KERNEL void eulerian_rates(
 #        endif
     vec_store(momentum_rate, n, i, force);
     mass_rate[i] = R(-2) * w_i * t.mass;
-    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = t.curl.c[a];
 #        if SPH_HAS_COMPRESSIBLE
     energy_rate[i] = R(-2) * w_i * t.energy + R(2) * mu * w_i * t.heat;
 #        endif
@@ -1242,6 +1192,42 @@ KERNEL void eulerian_far_field(ITEM_PARAM const int n, CONSTANT sph_params *prm,
     rho[i] = (hreal)r;
     mass[i] = r * vol[i];
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
+}
+#    endif
+
+#    if SPH_DIM > 1 && SPH_FLUID_VORTICITY
+/* The vorticity of the current state, for a snapshot (the steps do not
+ * form it): curl v_i = sum_j g_ij x (v_j - v_i), g_ij = grad'W_ij w_j
+ * (e_ij dW w_j of the stored, corrected pairs), in 2D its z component, in
+ * 3D all three; a wall neighbour at rest (v_j = 0), a wall particle's 0.
+ * Run when the snapshot downloads the field, so it is the curl of the
+ * velocity written beside it. */
+/* buffers of eulerian_vorticity: reads row_start:int*n row_walls:int*n nbr_j:int*pairs
+ * nbr_count:int*n pair_e:real*d*pairs pair_dwv:real*pairs vel kind normal; writes vorticity */
+KERNEL void eulerian_vorticity(ITEM_PARAM const int n, PAIR_ROWS_PARAMS,
+                               GLOBAL const real *restrict pair_e,
+                               GLOBAL const real *restrict pair_dwv,
+                               GLOBAL const real *restrict vel,
+                               GLOBAL real *restrict vorticity KIND_PARAMS) {
+    const int i = ITEM_ID;
+    if (i >= n) return;
+    ROW_WALLS_UNUSED;
+#        if SPH_FLUID_KINDS
+    (void)normal;
+#        endif
+    const int stride = ROWS_STRIDE;
+    const vec v_i = vec_load(vel, n, i);
+    vec curl = vec_zero();
+    const int count = IS_WALL(i) ? 0 : ROW_COUNT(i);
+    for (int k = 0; k < count; ++k) {
+        const int slot = ROW_SLOT(i, k), j = nbr_j[slot];
+        vec g;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) g.c[a] =
+            pair_e[a * stride + slot] * pair_dwv[slot];
+        const vec v_j = IS_WALL(j) ? vec_zero() : vec_load(vel, n, j);
+        curl = curl_add(curl, g, vec_sub(v_j, v_i));
+    }
+    UNROLL for (int a = 0; a < NSPIN; ++a) vorticity[a * n + i] = curl.c[a];
 }
 #    endif
 

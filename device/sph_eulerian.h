@@ -126,21 +126,6 @@ FN lanes lanes_dot(const lanes_vec x, const lanes_vec y) {
     return s;
 }
 
-/* curl_add on lanes: curl[] += g x dv (NSPIN components used). */
-FN void curl_add_lanes(lanes *curl, const lanes_vec g, const lanes_vec dv) {
-#if SPH_DIM == 1
-    (void)curl;
-    (void)g;
-    (void)dv;
-#elif SPH_DIM == 2
-    curl[0] += g.c[0] * dv.c[1] - g.c[1] * dv.c[0];
-#else
-    curl[0] += g.c[1] * dv.c[2] - g.c[2] * dv.c[1];
-    curl[1] += g.c[2] * dv.c[0] - g.c[0] * dv.c[2];
-    curl[2] += g.c[0] * dv.c[1] - g.c[1] * dv.c[0];
-#endif
-}
-
 /* riemann_linearised on lanes: the same operations in the same order, so
  * each lane's state is the one-pair solver's bit for bit. */
 FN fluid_state_lanes riemann_linearised_lanes(const fluid_side_lanes l, const fluid_side_lanes r,

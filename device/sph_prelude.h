@@ -248,7 +248,8 @@ typedef uint64_t ulong;
 /* Fluid scenes with wall bodies or a far field: the per-particle kind and
  * normal (SPH_FLUID_KINDS), the wall-pair forces (SPH_FLUID_WALLS), the far
  * field's pass (SPH_FAR_FIELD), SSP-RK's passes (SPH_FLUID_RK,
- * time.integrator); -D options of the OpenCL program, always
+ * time.integrator), the snapshots' vorticity (SPH_FLUID_VORTICITY,
+ * output.fields); -D options of the OpenCL program, always
  * compiled into the native fluid instances (PRESENT tests the buffers). */
 #if SPH_OPENCL
 #    ifndef SPH_FLUID_KINDS
@@ -263,12 +264,16 @@ typedef uint64_t ulong;
 #    ifndef SPH_FLUID_RK
 #        define SPH_FLUID_RK 0
 #    endif
+#    ifndef SPH_FLUID_VORTICITY
+#        define SPH_FLUID_VORTICITY 0
+#    endif
 #    define SPH_FLUID_TWO_STAGE (SPH_HAS_EULERIAN && !SPH_FLUID_RK)
 #else
 #    define SPH_FLUID_KINDS     SPH_HAS_EULERIAN
 #    define SPH_FLUID_WALLS     SPH_HAS_EULERIAN
 #    define SPH_FAR_FIELD       SPH_HAS_EULERIAN
 #    define SPH_FLUID_RK        SPH_HAS_EULERIAN
+#    define SPH_FLUID_VORTICITY SPH_HAS_EULERIAN
 #    define SPH_FLUID_TWO_STAGE SPH_HAS_EULERIAN
 #endif
 

@@ -141,8 +141,8 @@ __kernel __attribute__((reqd_work_group_size(SPH_LOOP_WG, 1, 1))) void tl_subste
 #        define LOOP_FAR_FIELD_PARAMS
 #    endif
 /* buffers of eulerian_substep_loop: reads nbr_count:int*n nbr_j:int*pairs pair_e:real*d*pairs
- * pair_dwv:real*pairs pair_inv_r:real*pairs vol pos fixed kind normal body; writes partials:small
- * vorticity; updates step_clock:small substep_sums:small rho vel mass pressure mass_rate
+ * pair_dwv:real*pairs pair_inv_r:real*pairs vol pos fixed kind normal body; writes partials:small;
+ * updates step_clock:small substep_sums:small rho vel mass pressure mass_rate
  * momentum_rate state_saved vel_stage energy energy_rate sound_speed wall_force */
 __kernel __attribute__((reqd_work_group_size(SPH_LOOP_WG, 1, 1))) void eulerian_substep_loop(
     const int substeps, const int stages, const int n, const int cap, const int ngroups,
@@ -150,7 +150,7 @@ __kernel __attribute__((reqd_work_group_size(SPH_LOOP_WG, 1, 1))) void eulerian_
     GLOBAL const int *restrict nbr_j, GLOBAL const real *restrict pair_e,
     GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
     GLOBAL const real *restrict vol, GLOBAL hreal *rho, GLOBAL real *vel, GLOBAL real *mass,
-    GLOBAL real *pressure, GLOBAL real *mass_rate, GLOBAL real *vorticity, GLOBAL real *partials,
+    GLOBAL real *pressure, GLOBAL real *mass_rate, GLOBAL real *partials,
     GLOBAL real *substep_sums LOOP_STAGE_PARAMS LOOP_ENERGY_PARAMS LOOP_FAR_FIELD_PARAMS FIXED_PARAM
         KIND_PARAMS WALL_FORCE_PARAM LOOP_BODY_PARAMS) {
     LOOP_SCRATCH;
@@ -161,8 +161,8 @@ __kernel __attribute__((reqd_work_group_size(SPH_LOOP_WG, 1, 1))) void eulerian_
         for (int stage = 0; stage < stages; ++stage) {
             FOR_MY_PARTICLES(i) {
                 eulerian_rates(i, n, stage, step_clock, prm, PAIR_ROWS_ARGS, pair_e, pair_dwv,
-                               pair_inv_r, rho, vel, vol, pressure, mass_rate, momentum_rate,
-                               vorticity ENERGY_RATE_ARGS SOUND_ARG KIND_ARGS WALL_FORCE_ARG);
+                               pair_inv_r, rho, vel, vol, pressure, mass_rate,
+                               momentum_rate ENERGY_RATE_ARGS SOUND_ARG KIND_ARGS WALL_FORCE_ARG);
             }
             PASS_END;
             FOR_MY_PARTICLES(i) {
@@ -181,8 +181,8 @@ __kernel __attribute__((reqd_work_group_size(SPH_LOOP_WG, 1, 1))) void eulerian_
         PASS_END;
         FOR_MY_PARTICLES(i) {
             eulerian_mass_energy_rate(i, n, step_clock, prm, PAIR_ROWS_ARGS, pair_e, pair_dwv,
-                                      pair_inv_r, rho, vel_stage, vol, pressure, mass_rate,
-                                      vorticity ENERGY_RATE_ARGS SOUND_ARG KIND_ARGS);
+                                      pair_inv_r, rho, vel_stage, vol, pressure,
+                                      mass_rate ENERGY_RATE_ARGS SOUND_ARG KIND_ARGS);
         }
         PASS_END;
         FOR_MY_PARTICLES(i) {

@@ -67,7 +67,7 @@ static sph_status write_fields(const sph_h5_writer *w, sph_backend *be, sph_erro
     void *scratch = NULL;
     for (int f = 0; !st && f < FIELD_COUNT; ++f) {
         const sph_field_info *info = &be->fields[f];
-        if (!info->present) continue;
+        if (!info->present || sph_field_is_derived((sph_field)f)) continue;
         const size_t count = (size_t)be->n * (size_t)info->components;
         void *buf = realloc(scratch, count * sizeof(double));
         if (!buf) {
@@ -348,7 +348,7 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
     if (!st && g < 0) st = sph_fail(err, SPH_ERR_INPUT, "%s: no group 'fields'", path);
     for (int k = 0; !st && k < FIELD_COUNT; ++k) {
         const sph_field_info *info = &be->fields[k];
-        if (!info->present) continue;
+        if (!info->present || sph_field_is_derived((sph_field)k)) continue;
         const size_t count = (size_t)be->n * (size_t)info->components;
         ck->field[k] = malloc(count * field_host_size(info->type));
         if (!ck->field[k]) {
@@ -366,7 +366,8 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
 sph_status sph_checkpoint_restore(const sph_checkpoint *ck, sph_backend *be, sph_error *err) {
     sph_status st = SPH_OK;
     for (int k = 0; !st && k < FIELD_COUNT; ++k)
-        if (be->fields[k].present) st = be->ops->upload_field(be, (sph_field)k, ck->field[k], err);
+        if (be->fields[k].present && !sph_field_is_derived((sph_field)k))
+            st = be->ops->upload_field(be, (sph_field)k, ck->field[k], err);
     if (!st) st = be->ops->upload_carried(be, ck->h.carried, err);
     return st;
 }

@@ -135,8 +135,8 @@ static sph_status write_ids(const sph_snapshots *s, const sph_h5_writer *w, hid_
                             sph_error *err);
 
 /* Fluids, after velocity and density: pressure (the EOS state the run
- * holds), vorticity (the z component in 2D, a vector in 3D, of the last
- * step's velocity, device/eulerian_step.cl), the Mach number |v| / c with
+ * holds), vorticity (the z component in 2D, a vector in 3D, of the velocity
+ * written beside it: the download forms it, eulerian_vorticity), the Mach number |v| / c with
  * the ideal gas's c = sqrt(gamma p / rho) (compressible), the ids. */
 static sph_status write_fluid_point_data(const sph_snapshots *s, const sph_h5_writer *w, hid_t pd,
                                          sph_error *err) {

@@ -38,6 +38,7 @@ void sph_features_from_scene(const sph_scene *scene, const sph_particles *partic
         for (int b = 0; b < scene->nbodies; ++b)
             if (scene->bodies[b].role == SPH_BODY_WALL) out->fluid_walls = true;
         out->far_field = scene->has_far_field;
+        out->fluid_vorticity = scene->dim > 1 && scene->output_field[SPH_OUT_VORTICITY];
         out->fluid_kinds = particles->kind != NULL;
         out->fluid_rk = scene->fluid_integrator != SPH_FLUID_TWO_STAGE;
         out->fluid_rk_stages = scene->fluid_integrator == SPH_FLUID_SSP_RK3   ? 3
@@ -76,7 +77,7 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              "-DSPH_PLASTIC=%d -DSPH_ROTATION=%d -DSPH_HAS_CLAMP=%d -DSPH_NBODIES=%d "
              "-DSPH_CONTACT=%d -DSPH_WALLS=%d -DSPH_NBR_ROW_MAJOR=%d -DSPH_PAIR_RECOMPUTE=%d "
              "-DSPH_TORQUE_PROJECTION=%d -DSPH_WG=%d "
-             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s%s%s%s%s",
+             "-DSORT_WG=%d -DSPH_PARAMS_SIZE=%zu%s%s%s%s%s%s%s%s",
              f->dim, f->double_precision ? 1 : 0, f->mixed_precision ? 1 : 0, (int)f->kernel,
              (int)f->formulation, f->plastic ? 1 : 0, (int)f->rotation, f->has_clamp ? 1 : 0,
              f->nbodies, f->contact ? 1 : 0, f->walls, nbr_row_major ? 1 : 0,
@@ -88,6 +89,7 @@ void sph_features_build_options(const sph_features *f, int reduce_wg, int sort_w
              f->fluid_kinds ? " -DSPH_FLUID_KINDS=1" : "",
              f->fluid_walls ? " -DSPH_FLUID_WALLS=1" : "", f->far_field ? " -DSPH_FAR_FIELD=1" : "",
              f->fluid_rk ? " -DSPH_FLUID_RK=1" : "",
+             f->fluid_vorticity ? " -DSPH_FLUID_VORTICITY=1" : "",
              /* TLSPH: a hyperelastic law, the pairwise damping (tl_step.cl) */
              elastic_model, f->tl_damping ? " -DSPH_TL_DAMPING=1" : "",
              /* several materials (device/sph_materials.h) */

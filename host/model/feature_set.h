@@ -50,6 +50,8 @@ typedef struct {
     /* fluids (device/eulerian_step.cl): particle kinds and normals (walls
      * or a far field), wall bodies, the far field */
     bool fluid_kinds, fluid_walls, far_field;
+    /* fluids in 2D and 3D whose snapshots write the vorticity (output.fields) */
+    bool fluid_vorticity;
     /* fluids: SSP Runge-Kutta of fluid_rk_stages (2 or 3) stages in place of
      * the two-stage update (time.integrator) */
     bool fluid_rk;

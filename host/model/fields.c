@@ -52,7 +52,7 @@ void sph_fields_layout(const sph_features *f, sph_field_info out[FIELD_COUNT]) {
         [FIELD_ENERGY] = {"energy", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_ENERGY_RATE] = {"energy_rate", FIELD_TYPE_REAL, 1, compressible},
         [FIELD_SOUND_SPEED] = {"sound_speed", FIELD_TYPE_REAL, 1, compressible},
-        [FIELD_VORTICITY] = {"vorticity", FIELD_TYPE_REAL, nspin, fluid && nspin > 0},
+        [FIELD_VORTICITY] = {"vorticity", FIELD_TYPE_REAL, nspin, fluid && f->fluid_vorticity},
         [FIELD_KIND] = {"kind", FIELD_TYPE_U8, 1, fluid && f->fluid_kinds},
         [FIELD_NORMAL] = {"normal", FIELD_TYPE_REAL, d, fluid && f->fluid_kinds},
         [FIELD_WALL_FORCE] = {"wall_force", FIELD_TYPE_REAL, 2 * d, fluid && f->fluid_walls},
@@ -75,6 +75,10 @@ size_t sph_field_element_size(sph_field_type type, const sph_features *f) {
         return sizeof(uint8_t);
     }
     return 0;
+}
+
+bool sph_field_is_derived(sph_field f) {
+    return f == FIELD_VORTICITY;
 }
 
 bool sph_field_is_real(sph_field_type type) {

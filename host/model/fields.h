@@ -78,5 +78,9 @@ size_t sph_field_element_size(sph_field_type type, const sph_features *f);
 
 /* A floating-point field (REAL or HREAL): transferred to the host as double. */
 bool sph_field_is_real(sph_field_type type);
+/* A field the steps do not keep: the backend forms it from the state when
+ * it is downloaded (the fluids' vorticity, eulerian_vorticity); no part of
+ * the state, so checkpoints leave it out. */
+bool sph_field_is_derived(sph_field f);
 
 #endif

@@ -569,6 +569,8 @@ static sph_status cpu_monitor(sph_backend *be, double *out, sph_error *err) {
 static sph_status cpu_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
     cpu_impl *c = be->impl;
     if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
+    /* a field the steps do not keep is formed from the state first */
+    if (f == FIELD_VORTICITY && c->k->fluid_vorticity) c->k->fluid_vorticity(&c->b);
     const sph_field_info *info = &be->fields[f];
     const size_t count = (size_t)be->n * (size_t)info->components;
     if (sph_field_is_real(info->type)) {

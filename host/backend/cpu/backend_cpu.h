@@ -74,6 +74,9 @@ typedef struct {
     /* fluids, once after the rebuild (eulerian_step.cl): the initial EOS
      * state and the corrected pair gradients; NULL for solids */
     void (*fluid_setup)(cpu_buffers *b);
+    /* fluids in 2D and 3D: the vorticity of the current state into its field
+     * (eulerian_vorticity), when a snapshot downloads it */
+    void (*fluid_vorticity)(cpu_buffers *b);
     /* kinetic, strain, momentum (dim), angular (1 or 3) */
     void (*diagnostics)(cpu_buffers *b, double *out);
     /* instability monitor (device/monitor.cl): SPH_MONITOR_NCOMP(dim) values */

@@ -246,8 +246,8 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
                                    (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
                                    F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
                                    F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                                   F_REAL(b, FIELD_MASS_RATE), F_REAL(b, FIELD_MOMENTUM_RATE),
-                                   F_REAL(b, FIELD_VORTICITY)
+                                   F_REAL(b, FIELD_MASS_RATE),
+                                   F_REAL(b, FIELD_MOMENTUM_RATE)
                                        ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS,
                                    F_REAL(b, FIELD_WALL_FORCE));
                 cpu_team_sync(t);
@@ -274,16 +274,15 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
             for (int i = 0; i < n; ++i)
                 eulerian_momentum_stage(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
                                         F_REAL(b, FIELD_VEL_STAGE), (real *)b->force_sum,
-                                        F_REAL(b, FIELD_MASS_RATE),
-                                        F_REAL(b, FIELD_VORTICITY) ENERGY_RATE_FIELD_ARGS,
+                                        F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS,
                                         F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
             cpu_team_sync(t);
             PAIRS_ONCE(b, t,
                        eulerian_mass_energy_pairs(
                            i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
                            F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL),
-                           F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_MASS_RATE),
-                           F_REAL(b, FIELD_VORTICITY)
+                           F_REAL(b, FIELD_PRESSURE),
+                           F_REAL(b, FIELD_MASS_RATE)
                                ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS));
 #    pragma omp for schedule(static) nowait
             for (int i = 0; i < n; ++i)
@@ -305,8 +304,22 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
     }
 }
 #    define FLUID_SETUP fluid_setup_impl
+#    if SPH_DIM > 1
+/* The vorticity of the current state (eulerian_step.cl), for a snapshot. */
+static void fluid_vorticity_impl(cpu_buffers *b) {
+    const int n = b->n;
+#        pragma omp parallel for schedule(static) if (b->parallel)
+    for (int i = 0; i < n; ++i)
+        eulerian_vorticity(i, n, FLUID_ROWS(b), (const real *)b->pair_e, (const real *)b->pair_dwv,
+                           F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VORTICITY) KIND_FIELD_ARGS);
+}
+#        define FLUID_VORTICITY fluid_vorticity_impl
+#    else
+#        define FLUID_VORTICITY NULL
+#    endif
 #else
-#    define FLUID_SETUP NULL
+#    define FLUID_SETUP     NULL
+#    define FLUID_VORTICITY NULL
 #endif
 
 /* One substep of the updated-Lagrangian solids as orphaned loops of the
@@ -647,6 +660,7 @@ const cpu_kernels CPU_VARIANT = {
     .substep = substep_impl,
     .advance = advance_impl,
     .fluid_setup = FLUID_SETUP,
+    .fluid_vorticity = FLUID_VORTICITY,
     .diagnostics = diagnostics_impl,
     .monitor = monitor_impl,
     .physics =

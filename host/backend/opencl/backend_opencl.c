@@ -71,6 +71,7 @@ typedef struct {
     sph_cl_kernel eulerian_momentum_rate, eulerian_mass_energy_rate, eulerian_update;
     sph_cl_kernel eulerian_rates, eulerian_rk_update; /* time.integrator "ssp-rk2", "ssp-rk3" */
     sph_cl_kernel eulerian_far_field;                 /* far field only */
+    sph_cl_kernel eulerian_vorticity;                 /* 2D and 3D: for the snapshots */
     /* the substep loop (substep_loop.cl), from its own program */
     sph_cl_kernel substep_loop;
 } kernel_set;
@@ -799,6 +800,12 @@ static sph_status ocl_monitor(sph_backend *be, double *out, sph_error *err) {
 static sph_status ocl_download(sph_backend *be, sph_field f, void *host, sph_error *err) {
     ocl_impl *o = be->impl;
     if (sph_backend_require_field(be, f, err)) return SPH_ERR_RUNTIME;
+    /* a field the steps do not keep is formed from the state first */
+    if (f == FIELD_VORTICITY && o->k.eulerian_vorticity.kernel) {
+        sph_status st =
+            launch(o, &o->k.eulerian_vorticity, (size_t)be->n, o->item_wg, NULL, 0, err);
+        if (st) return st;
+    }
     const sph_field_info *info = &be->fields[f];
     if (sph_field_is_real(info->type))
         return read_values(o, o->field[f], sph_field_element_size(info->type, &be->features), 0,
@@ -956,6 +963,7 @@ static sph_status create_kernels(ocl_impl *o, sph_error *err) {
         {&o->k.eulerian_rates, "eulerian_rates", fluid && f->fluid_rk},
         {&o->k.eulerian_rk_update, "eulerian_rk_update", fluid && f->fluid_rk},
         {&o->k.eulerian_far_field, "eulerian_far_field", fluid && f->far_field},
+        {&o->k.eulerian_vorticity, "eulerian_vorticity", o->be->fields[FIELD_VORTICITY].present},
         {&o->k.shear_force, "acoustic_shear_force",
          !tlsph && FORM_HAS_STRESS_DIV((int)f->formulation)},
         /* the substep reduction: with the device clock, its second stage
