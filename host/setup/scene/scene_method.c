@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* how near, in output intervals, an end time is to the output grid to be on it */
+#define OUTPUT_GRID_ROUNDING 1e-9
+
 /* ------------------------------------------------------------------------ */
 /* schema                                                                    */
 /* ------------------------------------------------------------------------ */
@@ -190,6 +193,17 @@ sph_status scene_parse_time(loader *L, const config_setting_t *root) {
         return scene_fail_at(L, config_setting_get_member(g, "output_interval"), NULL,
                              "must not exceed time.end (%g), got %g", sc->end_time,
                              sc->output_interval);
+    /* An end on the output grid (within rounding) becomes the grid's own time
+     * k * interval, the time that the k-th output of a longer run lands on:
+     * with outputs every 0.05 s a run to 0.3 s then ends at 6 * 0.05 =
+     * 0.30000000000000004 s, where a run to 0.4 s passes its sixth output, so
+     * the two agree bit for bit there, and a restart from the first's last
+     * checkpoint continues as the longer run (with 0.3 itself the last step
+     * was 6e-17 s shorter and the states differed in round-off). */
+    const double outputs = nearbyint(sc->end_time / sc->output_interval);
+    if (outputs >= 1 && fabs(outputs * sc->output_interval - sc->end_time) <=
+                            OUTPUT_GRID_ROUNDING * sc->output_interval)
+        sc->end_time = outputs * sc->output_interval;
     /* The eulerian formulations keep their particles where they were placed
      * (seed 004 §3.1): no advection step, no neighbour rebuild, so no
      * advection CFL, no frozen pair geometry and no acceleration criterion;
