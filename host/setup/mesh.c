@@ -538,14 +538,19 @@ double sph_mesh_sdf(const sph_mesh *m, const double x[3], double normal[3]) {
         stack[top++] = dl < dr ? nd->right : nd->left;
         stack[top++] = dl < dr ? nd->left : nd->right;
     }
-    /* the pseudonormal of the nearest feature signs the distance */
+    /* the pseudonormal of the nearest feature signs the distance; a point
+     * outside the bounding box is outside whatever the pseudonormal says (it
+     * can say inside where the surface intersects itself: a cube with one
+     * corner pulled through a face, tests/fuzz/mesh_regressions) */
     const double *pn = best_feature == 0   ? m->fn + 3 * best_tri
                        : best_feature <= 3 ? m->vn + 3 * m->t[3 * best_tri + best_feature - 1]
                                            : m->en + 9 * best_tri + 3 * (best_feature - 4);
     double d[3];
     sub(x, p, d);
     const double dist = sqrt(best);
-    const double sign = dot(d, pn) >= 0.0 ? 1.0 : -1.0;
+    bool in_box = true;
+    for (int a = 0; a < 3; a++) in_box = in_box && x[a] >= m->lower[a] && x[a] <= m->upper[a];
+    const double sign = !in_box || dot(d, pn) >= 0.0 ? 1.0 : -1.0;
     if (normal) {
         if (dist > 1e-12 * (m->upper[0] - m->lower[0] + m->upper[1] - m->lower[1])) {
             for (int a = 0; a < 3; a++) normal[a] = sign * d[a] / dist;
