@@ -510,6 +510,13 @@ static double box_distance2(const bvh_node *nd, const double *x) {
     return d2;
 }
 
+/* Within the mesh's bounding box (a closed surface lies inside it). */
+static bool in_bounding_box(const sph_mesh *m, const double x[3]) {
+    for (int a = 0; a < 3; a++)
+        if (x[a] < m->lower[a] || x[a] > m->upper[a]) return false;
+    return true;
+}
+
 double sph_mesh_sdf(const sph_mesh *m, const double x[3], double normal[3]) {
     double best = INFINITY, p[3] = {0, 0, 0};
     int best_tri = 0, best_feature = 0;
@@ -548,9 +555,7 @@ double sph_mesh_sdf(const sph_mesh *m, const double x[3], double normal[3]) {
     double d[3];
     sub(x, p, d);
     const double dist = sqrt(best);
-    bool in_box = true;
-    for (int a = 0; a < 3; a++) in_box = in_box && x[a] >= m->lower[a] && x[a] <= m->upper[a];
-    const double sign = !in_box || dot(d, pn) >= 0.0 ? 1.0 : -1.0;
+    const double sign = !in_bounding_box(m, x) || dot(d, pn) >= 0.0 ? 1.0 : -1.0;
     if (normal) {
         if (dist > 1e-12 * (m->upper[0] - m->lower[0] + m->upper[1] - m->lower[1])) {
             for (int a = 0; a < 3; a++) normal[a] = sign * d[a] / dist;
@@ -563,9 +568,7 @@ double sph_mesh_sdf(const sph_mesh *m, const double x[3], double normal[3]) {
 }
 
 bool sph_mesh_contains(const sph_mesh *m, const double x[3]) {
-    for (int a = 0; a < 3; a++)
-        if (x[a] < m->lower[a] || x[a] > m->upper[a]) return false;
-    return sph_mesh_sdf(m, x, NULL) <= 0.0;
+    return in_bounding_box(m, x) && sph_mesh_sdf(m, x, NULL) <= 0.0;
 }
 
 uint64_t sph_mesh_hash(const sph_mesh *m, uint64_t h) {
