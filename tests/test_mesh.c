@@ -16,6 +16,12 @@
  *     removed: 3 boundary edges), a degenerate triangle, one triangle turned
  *     over (inconsistent winding), the whole surface inside out, edges
  *     shared by three triangles (a face doubled, reversed).
+ *  4. Two parts in one file: two cubes apart, and a cube with a cavity
+ *     (volume 0.875, the cavity outside), are accepted; two cubes
+ *     overlapping, a half-size cube against a face of the other (no vertex
+ *     shared), and a cube holding a sheet of
+ *     no thickness (which passes the edge checks) are refused as
+ *     intersecting themselves, the first pair named with a point of both.
  */
 #include "mesh.h"
 #include "particles.h"
@@ -81,6 +87,44 @@ static void write_obj(const char *path) {
         fprintf(f, "f %d//%d %d//%d %d//%d\n", CUBE_T[k][0] + 1, k + 1, CUBE_T[k][1] + 1, k + 1,
                 CUBE_T[k][2] + 1, k + 1);
     fclose(f);
+}
+
+/* The unit cube and a second one (the cube scaled by `scale`, moved by
+ * `offset`, its winding reversed when `inward`: a cavity) in one OBJ file,
+ * or the cube and a sheet (one triangle in both windings) when scale is 0. */
+static void write_two_parts(const char *path, const double offset[3], double scale, bool inward) {
+    FILE *f = fopen(path, "w");
+    for (int part = 0; part < 2; part++)
+        for (int v = 0; v < 8; v++)
+            fprintf(f, "v %.17g %.17g %.17g\n",
+                    part ? offset[0] + scale * CUBE_V[v][0] : CUBE_V[v][0],
+                    part ? offset[1] + scale * CUBE_V[v][1] : CUBE_V[v][1],
+                    part ? offset[2] + scale * CUBE_V[v][2] : CUBE_V[v][2]);
+    for (int k = 0; k < 12; k++)
+        fprintf(f, "f %d %d %d\n", CUBE_T[k][0] + 1, CUBE_T[k][1] + 1, CUBE_T[k][2] + 1);
+    if (scale == 0.0) {
+        fprintf(f, "v 0.2 0.2 0.5\nv 0.8 0.2 0.5\nv 0.2 0.8 0.5\nf 17 18 19\nf 17 19 18\n");
+    } else {
+        for (int k = 0; k < 12; k++)
+            fprintf(f, "f %d %d %d\n", CUBE_T[k][0] + 9, CUBE_T[k][inward ? 2 : 1] + 9,
+                    CUBE_T[k][inward ? 1 : 2] + 9);
+    }
+    fclose(f);
+}
+
+static void expect_accepted(test_counts *t, const char *path, double volume, const double in[3],
+                            const double out[3]) {
+    const sph_mesh_transform tf = {1.0, {0, 0, 0}, {0, 0, 0}};
+    char why[512] = "";
+    sph_mesh *m = sph_mesh_load(path, NULL, 0, NULL, &tf, why, sizeof why);
+    CHECK(t, m != NULL, "%s: %s", path, why);
+    if (!m) return;
+    CHECK(t, fabs(sph_mesh_volume(m) - volume) < 1e-12, "%s: volume %.15g, expected %g", path,
+          sph_mesh_volume(m), volume);
+    CHECK(t, sph_mesh_contains(m, in) && !sph_mesh_contains(m, out),
+          "%s: (%g, %g, %g) inside %d, (%g, %g, %g) inside %d", path, in[0], in[1], in[2],
+          (int)sph_mesh_contains(m, in), out[0], out[1], out[2], (int)sph_mesh_contains(m, out));
+    sph_mesh_free(m);
 }
 
 /* the exact signed distance of the box [0, 2]^3 at y (box frame), and its gradient */
@@ -262,6 +306,59 @@ int main(void) {
     snprintf(path, sizeof path, "%s/fin.stl", dir);
     write_ascii_stl(path, (const int(*)[3])tri, 13);
     expect_refused(&t, path, "more than two triangles");
+
+    /* two parts in one file: apart, and a cavity inside the cube, are one
+     * closed surface; overlapping, touching along a face, and a sheet of no
+     * thickness inside (each edge of its two triangles runs both ways, so
+     * only the self-intersection test sees it) are refused */
+    {
+        static const struct {
+            const char *name;
+            double offset[3], scale;
+            bool inward;
+            const char *why;
+        } parts[] = {
+            {"apart.obj", {2.0, 0.0, 0.0}, 1.0, false, NULL},
+            {"cavity.obj", {0.25, 0.25, 0.25}, 0.5, true, NULL},
+            {"overlapping.obj", {0.5, 0.5, 0.5}, 1.0, false, "intersects itself: "},
+            {"touching.obj", {1.0, 0.25, 0.25}, 0.5, false, "intersects itself: "},
+            {"sheet.obj", {0.0, 0.0, 0.0}, 0.0, false, "intersects itself: 1 pair of triangles"},
+        };
+        for (size_t k = 0; k < sizeof parts / sizeof parts[0]; k++) {
+            snprintf(path, sizeof path, "%s/%s", dir, parts[k].name);
+            write_two_parts(path, parts[k].offset, parts[k].scale, parts[k].inward);
+            if (parts[k].why) {
+                expect_refused(&t, path, parts[k].why);
+                continue;
+            }
+            const double in[3] = {0.1, 0.1, 0.1}, out[3] = {0.5, 0.5, 0.5};
+            const double outside[3] = {1.5, 0.5, 0.5};
+            if (k == 0)
+                expect_accepted(&t, path, 2.0, in, outside);
+            else
+                expect_accepted(&t, path, 1.0 - 0.125, in, out);
+        }
+        /* the overlap's first pair and where they meet */
+        const sph_mesh_transform tf = {1.0, {0, 0, 0}, {0, 0, 0}};
+        char why[512] = "";
+        snprintf(path, sizeof path, "%s/overlapping.obj", dir);
+        sph_mesh *m = sph_mesh_load(path, NULL, 0, NULL, &tf, why, sizeof why);
+        int first = -1, second = -1;
+        double at[3] = {-1, -1, -1};
+        const char *p = strstr(why, "the first triangles ");
+        CHECK(&t,
+              !m && p &&
+                  sscanf(p, "the first triangles %d and %d at (%lf, %lf, %lf)", &first, &second,
+                         &at[0], &at[1], &at[2]) == 5,
+              "overlap: cannot read the first pair from '%s'", why);
+        /* a point of both triangles, in both cubes' surfaces: on a face of
+         * the first cube and of the second */
+        bool on_both = first >= 0 && first < 12 && second >= 12;
+        for (int a = 0; a < 3; a++) on_both = on_both && at[a] >= 0.5 - 1e-9 && at[a] <= 1.0 + 1e-9;
+        CHECK(&t, on_both, "overlap: triangles %d and %d at (%g, %g, %g)", first, second, at[0],
+              at[1], at[2]);
+        sph_mesh_free(m);
+    }
 
     /* a mesh in a union and in a difference: the unit cube of
      * cube_ascii.stl with a box half its size cut away, and with a box as

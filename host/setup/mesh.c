@@ -393,6 +393,230 @@ static bool build_bvh(sph_mesh *m, char *why, size_t len) {
     return true;
 }
 
+/* ---- self-intersection -------------------------------------------------- */
+
+/* The pseudonormal's sign is exact only for a surface that does not meet
+ * itself: a fold, a corner pulled through a face, or two overlapping parts
+ * exported as one file would put points inside that are outside (and the
+ * relaxation's surface where there is none), so such a mesh is refused.  Two
+ * triangles of a closed manifold that does not meet itself share points only
+ * where they share vertices: their common edge, their common vertex.  Every
+ * pair whose bounding boxes overlap (through the hierarchy) is tested for a
+ * common point elsewhere; distances below 1e-9 of the bounding box's
+ * diagonal count as zero (SELF_MEET_TOLERANCE), so a surface that touches
+ * itself (two parts sharing a face, a vertex on another face) is refused
+ * too. */
+#define SELF_MEET_TOLERANCE 1e-9
+
+typedef struct {
+    double tol;         /* distances at most this are zero */
+    int axis_u, axis_v; /* the plane of projection of the triangle tested against */
+} meet_frame;
+
+static double cross2(const double *a, const double *b, const meet_frame *f) {
+    return a[f->axis_u] * b[f->axis_v] - a[f->axis_v] * b[f->axis_u];
+}
+
+/* the projection that keeps a plane of unit normal n least distorted: drop
+ * its largest component */
+static meet_frame frame_of(const double *n, double tol) {
+    int drop = 0;
+    for (int a = 1; a < 3; a++)
+        if (fabs(n[a]) > fabs(n[drop])) drop = a;
+    return (meet_frame){tol, (drop + 1) % 3, (drop + 2) % 3};
+}
+
+/* a point of the same plane within tol of the triangle (a, b, c) */
+static bool in_triangle_2d(const double *p, const double *a, const double *b, const double *c,
+                           const meet_frame *f) {
+    const double *corner[3] = {a, b, c};
+    double e[3], w[3];
+    sub(b, a, e);
+    sub(c, a, w);
+    const double orientation = cross2(e, w, f) > 0.0 ? 1.0 : -1.0;
+    for (int k = 0; k < 3; k++) {
+        const double *s = corner[k], *t = corner[(k + 1) % 3];
+        sub(t, s, e);
+        sub(p, s, w);
+        /* the signed distance from the edge's line, inside positive */
+        const double length = hypot(e[f->axis_u], e[f->axis_v]);
+        if (orientation * cross2(e, w, f) < -f->tol * length) return false;
+    }
+    return true;
+}
+
+static bool far_from(const double *x, const double *excluded, double tol) {
+    double d[3];
+    if (!excluded) return true;
+    sub(x, excluded, d);
+    return dot(d, d) > tol * tol;
+}
+
+/* a common point of the segments pq and ab of one plane, other than
+ * `excluded` (NULL: none), into at */
+static bool segments_meet_2d(const double *p, const double *q, const double *a, const double *b,
+                             const double *excluded, const meet_frame *f, double *at) {
+    double r[3], s[3], ap[3];
+    sub(q, p, r);
+    sub(b, a, s);
+    sub(a, p, ap);
+    const double lr = hypot(r[f->axis_u], r[f->axis_v]), ls = hypot(s[f->axis_u], s[f->axis_v]);
+    const double denom = cross2(r, s, f);
+    if (fabs(denom) > 1e-12 * lr * ls) { /* not parallel */
+        const double u = cross2(ap, s, f) / denom, v = cross2(ap, r, f) / denom;
+        if (u < -f->tol / lr || u > 1.0 + f->tol / lr || v < -f->tol / ls || v > 1.0 + f->tol / ls)
+            return false;
+        for (int k = 0; k < 3; k++) at[k] = p[k] + u * r[k];
+        return far_from(at, excluded, f->tol);
+    }
+    /* parallel: apart, or overlapping along one line */
+    if (fabs(cross2(ap, r, f)) > f->tol * lr) return false;
+    const double *ends[4] = {p, q, a, b};
+    for (int k = 0; k < 4; k++) {
+        /* an end of one segment on the other */
+        const double *x = ends[k], *o0 = k < 2 ? a : p, *o1 = k < 2 ? b : q;
+        double d[3], xo[3];
+        sub(o1, o0, d);
+        sub(x, o0, xo);
+        const double l2 = d[f->axis_u] * d[f->axis_u] + d[f->axis_v] * d[f->axis_v];
+        const double t = (xo[f->axis_u] * d[f->axis_u] + xo[f->axis_v] * d[f->axis_v]) / l2;
+        const double slack = f->tol / sqrt(l2);
+        if (t >= -slack && t <= 1.0 + slack && far_from(x, excluded, f->tol)) {
+            memcpy(at, x, 3 * sizeof(double));
+            return true;
+        }
+    }
+    return false;
+}
+
+/* a common point of the segment pq and the triangle tri, other than
+ * `excluded`, into at */
+static bool segment_meets_triangle(const sph_mesh *m, const double *p, const double *q, int tri,
+                                   const double *excluded, double tol, double *at) {
+    const double *a = vert(m, tri, 0), *b = vert(m, tri, 1), *c = vert(m, tri, 2);
+    const double *n = m->fn + 3 * tri;
+    double ap[3], aq[3];
+    sub(p, a, ap);
+    sub(q, a, aq);
+    const double dp = dot(n, ap), dq = dot(n, aq);
+    if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return false;
+    const meet_frame f = frame_of(n, tol);
+    if (fabs(dp) <= tol && fabs(dq) <= tol) {
+        /* in the triangle's plane: an end inside it, or a crossing of its edges */
+        if (in_triangle_2d(p, a, b, c, &f) && far_from(p, excluded, tol)) {
+            memcpy(at, p, sizeof(double) * 3);
+            return true;
+        }
+        if (in_triangle_2d(q, a, b, c, &f) && far_from(q, excluded, tol)) {
+            memcpy(at, q, sizeof(double) * 3);
+            return true;
+        }
+        return segments_meet_2d(p, q, a, b, excluded, &f, at) ||
+               segments_meet_2d(p, q, b, c, excluded, &f, at) ||
+               segments_meet_2d(p, q, c, a, excluded, &f, at);
+    }
+    /* through the plane: where it crosses */
+    const double s = dp / (dp - dq);
+    for (int k = 0; k < 3; k++) at[k] = p[k] + s * (q[k] - p[k]);
+    return in_triangle_2d(at, a, b, c, &f) && far_from(at, excluded, tol);
+}
+
+/* Triangles t and u meet other than along the edge or at the vertex they
+ * share: a point common to both into at. */
+static bool triangles_meet(const sph_mesh *m, int t, int u, double tol, double *at) {
+    int shared = 0, shared_vertex = -1;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            if (m->t[3 * t + i] == m->t[3 * u + j]) ++shared, shared_vertex = m->t[3 * t + i];
+    if (shared == 3) { /* the same triangle twice */
+        for (int a = 0; a < 3; a++)
+            at[a] = (vert(m, t, 0)[a] + vert(m, t, 1)[a] + vert(m, t, 2)[a]) / 3.0;
+        return true;
+    }
+    if (shared == 2) {
+        /* two planes through one edge meet only there, unless they are one
+         * plane and the triangles lie on the same side of the edge (a fold) */
+        int k = 0, l = 0;
+        while (m->t[3 * u + l] == m->t[3 * t + 0] || m->t[3 * u + l] == m->t[3 * t + 1] ||
+               m->t[3 * u + l] == m->t[3 * t + 2])
+            ++l;
+        while (m->t[3 * t + k] == m->t[3 * u + 0] || m->t[3 * t + k] == m->t[3 * u + 1] ||
+               m->t[3 * t + k] == m->t[3 * u + 2])
+            ++k;
+        const double *c = vert(m, t, k), *d = vert(m, u, l);
+        const double *e0 = vert(m, t, (k + 1) % 3), *e1 = vert(m, t, (k + 2) % 3);
+        double edge[3], ec[3], ed[3], nc[3], nd[3];
+        sub(e1, e0, edge);
+        sub(c, e0, ec);
+        sub(d, e0, ed);
+        if (fabs(dot(m->fn + 3 * t, ed)) > tol) return false;
+        cross(edge, ec, nc);
+        cross(edge, ed, nd);
+        if (!(dot(nc, nd) > 0.0)) return false;
+        memcpy(at, d, sizeof(double) * 3);
+        return true;
+    }
+    const double *excluded = shared == 1 ? m->v + 3 * shared_vertex : NULL;
+    for (int pass = 0; pass < 2; pass++) {
+        const int edges_of = pass ? u : t, against = pass ? t : u;
+        for (int k = 0; k < 3; k++)
+            if (segment_meets_triangle(m, vert(m, edges_of, k), vert(m, edges_of, (k + 1) % 3),
+                                       against, excluded, tol, at))
+                return true;
+    }
+    return false;
+}
+
+static bool check_self_intersection(const sph_mesh *m, char *why, size_t len) {
+    double diag2 = 0.0;
+    for (int a = 0; a < 3; a++) diag2 += (m->upper[a] - m->lower[a]) * (m->upper[a] - m->lower[a]);
+    const double tol = SELF_MEET_TOLERANCE * sqrt(diag2);
+    long pairs = 0;
+    int first_t = -1, first_u = -1;
+    double first_at[3] = {0, 0, 0};
+    for (int t = 0; t < m->nt; t++) {
+        double lo[3], hi[3];
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(vert(m, t, 0)[a], fmin(vert(m, t, 1)[a], vert(m, t, 2)[a])) - tol;
+            hi[a] = fmax(vert(m, t, 0)[a], fmax(vert(m, t, 1)[a], vert(m, t, 2)[a])) + tol;
+        }
+        int stack[128], top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const bvh_node *nd = &m->nodes[stack[--top]];
+            bool apart = false;
+            for (int a = 0; a < 3; a++) apart = apart || nd->hi[a] < lo[a] || nd->lo[a] > hi[a];
+            if (apart) continue;
+            if (nd->left >= 0) {
+                if (top + 2 > (int)(sizeof stack / sizeof stack[0]))
+                    continue; /* depth ~ log2(nt) */
+                stack[top++] = nd->left;
+                stack[top++] = nd->right;
+                continue;
+            }
+            for (int s = nd->first; s < nd->first + nd->count; s++) {
+                const int u = m->order[s];
+                double at[3];
+                if (u <= t || !triangles_meet(m, t, u, tol, at)) continue;
+                ++pairs;
+                if (first_t < 0 || (t == first_t && u < first_u)) {
+                    first_t = t, first_u = u;
+                    memcpy(first_at, at, sizeof first_at);
+                }
+            }
+        }
+    }
+    if (!pairs) return true;
+    snprintf(why, len,
+             "intersects itself: %ld pair%s of triangles meet away from a shared edge or vertex, "
+             "the first triangles %d and %d at (%g, %g, %g); a body needs one closed surface "
+             "that neither crosses nor touches itself (overlapping parts exported as one file: "
+             "join them by a boolean union in the CAD or mesh tool, or give each part its own "
+             "mesh shape and combine them with a \"union\" shape)",
+             pairs, pairs == 1 ? "" : "s", first_t, first_u, first_at[0], first_at[1], first_at[2]);
+    return false;
+}
+
 sph_mesh *sph_mesh_load(const char *path, const void *data, size_t size, const char *hint,
                         const sph_mesh_transform *tf, char *why, size_t len) {
     const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices;
@@ -436,7 +660,8 @@ sph_mesh *sph_mesh_load(const char *path, const void *data, size_t size, const c
     ok = ok && gather(sc, m, why, len);
     aiReleaseImport(sc);
     if (ok) transform(m, tf);
-    ok = ok && check_and_normals(m, why, len) && build_bvh(m, why, len);
+    ok = ok && check_and_normals(m, why, len) && build_bvh(m, why, len) &&
+         check_self_intersection(m, why, len);
     if (!ok) {
         sph_mesh_free(m);
         return NULL;

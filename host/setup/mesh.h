@@ -6,19 +6,19 @@
  * order, then translation) and checked: it must hold triangles, none of
  * them degenerate, and form a closed, consistently oriented, outward-facing
  * surface (every edge shared by exactly two triangles that run along it in
- * opposite directions, positive enclosed volume).  A mesh that fails is
- * refused with a message that says what and where (the first offending
- * triangle or edge, in the transformed coordinates).
+ * opposite directions, positive enclosed volume) that does not meet itself
+ * (no two triangles share a point other than their common edge or vertex).
+ * A mesh that fails is refused with a message that says what and where (the
+ * first offending triangle, edge or pair, in the transformed coordinates).
  *
  * Queries, in the transformed coordinates: sph_mesh_sdf, the distance to
  * the nearest triangle (found through a bounding-volume hierarchy of the
  * triangles), signed by the angle-weighted pseudonormal of the nearest
  * feature, face, edge or vertex (Baerentzen & Aanaes, IEEE TVCG 11, 2005:
- * exact for the closed, consistently oriented manifolds accepted here,
- * where ray parity and a winding number are needed only for defective
- * surfaces, which are refused), and the outward unit normal, the gradient of
- * the signed distance; sph_mesh_contains, its sign (the surface counts as
- * inside).
+ * exact for the closed, consistently oriented manifolds without
+ * self-intersection accepted here, where ray parity and a winding number are needed only for
+ * defective surfaces, which are refused), and the outward unit normal, the gradient of the signed
+ * distance; sph_mesh_contains, its sign (the surface counts as inside).
  *
  * A mesh is owned by the shape that loaded it (sph_scene_free releases it).
  */
