@@ -436,6 +436,17 @@ ROWS = [
          ed("};\nbodies", '  disc = { type = "disc"; centre = [0.5, 0.5]; radius = 0.2; };\n'
             "};\nbodies")],
         text=FLUID_TEXT, marker="spacing = 1.5"),
+    Row("fluid: a relaxed fluid whose shape reaches into a wall body", 2,
+        ["{file}:{line}: bodies.water: the body is relaxed (placement = \"relaxed\") within its "
+         "shape 'box', which reaches into wall body 'cyl' ({file}:{line_b}: bodies.cyl) at "
+         "(0.45, 0.35): the relaxation would move its particles into the wall; give the body its "
+         "shape without the wall's"],
+        [ed('shape = "box"; }\n', 'shape = "box"; placement = "relaxed"; },\n'
+            '  { name = "cyl"; role = "wall"; shape = "disc"; }\n'),
+         ed("};\nbodies", '  disc = { type = "disc"; centre = [0.5, 0.5]; radius = 0.2; };\n'
+            "};\nbodies"),
+         ed('periodic = ["x", "y"];', 'far_field = { velocity = [1.0, 0.0]; };')],
+        text=FLUID_TEXT, marker='name = "water"', marker_b='name = "cyl"'),
     # --- missing required keys
     Row("missing required key: a material's density", 2,
         ["{file}:{line}: materials.plate.density: missing required key"],

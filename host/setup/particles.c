@@ -205,10 +205,13 @@ static sph_status relax_bodies(const sph_scene *scene, const double origin[3], b
     return SPH_OK;
 }
 
-/* The first point where a body overlaps an earlier one. */
+/* The first point where a body overlaps an earlier one, and the first of
+ * its shape's points that a wall body takes. */
 typedef struct {
     int other; /* the earlier body, -1: none */
     double x[3];
+    int wall; /* the wall body, -1: none */
+    double wall_x[3];
 } overlap_info;
 
 /* Visit the lattice points owned by body b, in z, y, x order (x fastest),
@@ -240,9 +243,14 @@ static long scan_body(const sph_scene *scene, int b, const double origin[3], sph
                 for (int a = 0; a < dim; a++) x[a] = origin[a] + ((double)idx[a] + 0.5) * dp;
                 if (!sph_shape_contains(scene, body->shape, x)) continue;
                 bool taken = false;
-                for (int e = 0; !wall && e < scene->nbodies && !taken; e++)
+                for (int e = 0; !wall && e < scene->nbodies && !taken; e++) {
                     taken =
                         is_wall(scene, e) && sph_shape_contains(scene, scene->bodies[e].shape, x);
+                    if (taken && overlap && overlap->wall < 0) {
+                        overlap->wall = e;
+                        for (int a = 0; a < 3; a++) overlap->wall_x[a] = x[a];
+                    }
+                }
                 for (int e = 0; e < b && !taken; e++) {
                     if (is_wall(scene, e) != wall) continue;
                     taken = sph_shape_contains(scene, scene->bodies[e].shape, x);
@@ -853,7 +861,7 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
         }
     }
     for (int b = 0; b < scene->nbodies; b++) {
-        overlap_info ov = {-1, {0, 0, 0}};
+        overlap_info ov = {-1, {0, 0, 0}, -1, {0, 0, 0}};
         long count = scan_body(scene, b, origin, NULL, 0, &ov);
         if (count < 0) {
             const sph_body *body = &scene->bodies[b], *other = &scene->bodies[ov.other];
@@ -864,6 +872,20 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
                             "contain the point %s; bodies may touch but must not overlap",
                             body->where, other->name, other->where, scene->shapes[body->shape].name,
                             scene->shapes[other->shape].name, point);
+        }
+        if (count > 0 && ov.wall >= 0 && scene->bodies[b].placement == SPH_PLACEMENT_RELAXED) {
+            /* the relaxation keeps a body within its own shape only */
+            const sph_body *body = &scene->bodies[b], *w = &scene->bodies[ov.wall];
+            char point[96];
+            format_point(ov.wall_x, dim, point, sizeof point);
+            return sph_fail(err, SPH_ERR_INPUT,
+                            "%s: the body is relaxed (placement = \"relaxed\") within its shape "
+                            "'%s', which reaches into wall body '%s' (%s) at %s: the relaxation "
+                            "would move its particles into the wall; give the body its shape "
+                            "without the wall's (a \"difference\" shape of the two, as "
+                            "cases/cylinder_flow_2d/scene.cfg's flow = box minus disc)",
+                            body->where, scene->shapes[body->shape].name, w->name, w->where,
+                            point);
         }
         if (count == 0)
             return sph_fail(err, SPH_ERR_INPUT,
