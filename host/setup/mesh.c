@@ -771,9 +771,10 @@ double sph_mesh_sdf(const sph_mesh *m, const double x[3], double normal[3]) {
         stack[top++] = dl < dr ? nd->left : nd->right;
     }
     /* the pseudonormal of the nearest feature signs the distance; a point
-     * outside the bounding box is outside whatever the pseudonormal says (it
-     * can say inside where the surface intersects itself: a cube with one
-     * corner pulled through a face, tests/fuzz/mesh_regressions) */
+     * outside the bounding box is outside whatever the pseudonormal says (a
+     * guard: it can say inside where a surface intersects itself, such as
+     * the cube with one corner pulled through a face of
+     * tests/fuzz/mesh_regressions, which check_self_intersection refuses) */
     const double *pn = best_feature == 0   ? m->fn + 3 * best_tri
                        : best_feature <= 3 ? m->vn + 3 * m->t[3 * best_tri + best_feature - 1]
                                            : m->en + 9 * best_tri + 3 * (best_feature - 4);
