@@ -425,7 +425,7 @@ int main(void) {
             snprintf(shape, sizeof shape, wall_shape[k], ball_stl);
             snprintf(text, sizeof text,
                      "dimension = 3;\nresolution = { dp = 0.01; };\n"
-                     "method = { formulation = \"eulerian-wc\"; kernel = \"laguerre-gauss\"; };\n"
+                     "method = { formulation = \"eulerian-wc\"; kernel = \"wendland-c2\"; };\n"
                      "time = { end = 1e-3; output_interval = 1e-3; };\n"
                      "materials = { water = { density = 1.0; sound_speed = 10.0; viscosity = "
                      "0.01; }; };\n"

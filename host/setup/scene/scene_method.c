@@ -121,8 +121,26 @@ sph_status scene_parse_method(loader *L, const config_setting_t *root) {
                              sph_formulation_name((sph_formulation)formulation),
                              sph_rotation_name((sph_rotation)rotation));
     }
-    if ((st = scene_keyword(L, g, SK_METHOD_KERNEL, &kernel, NULL))) return st;
+    const config_setting_t *kernel_at;
+    if ((st = scene_keyword(L, g, SK_METHOD_KERNEL, &kernel, &kernel_at))) return st;
     sc->kernel = (sph_kernel)kernel;
+    if (eulerian && sc->dim == 3 &&
+        (kernel == SPH_KERNEL_LAGUERRE_GAUSS || kernel == SPH_KERNEL_LAGUERRE_WENDLAND))
+        /* The Laguerre kernels' dW/dr is positive over part of the support,
+         * and a pair's Riemann dissipation, quadratic in its velocity jump
+         * under the limiter, weighs the pairs by q^(d+2) dW: for
+         * Laguerre-Gauss that moment is 0 in 2D and positive in 3D, so there
+         * the dissipation feeds the flow (docs/fluids.md, "Kernels in 3D") */
+        return scene_fail_at(
+            L, kernel_at, NULL,
+            "\"%s\" is unstable for the fluid formulations in 3D: its gradient is positive "
+            "between %s h and %s h, and in 3D the pairs there turn the Riemann solver's "
+            "dissipation into a source of kinetic energy (the Taylor-Green vortex extruded in z "
+            "gains energy instead of decaying, and blows up); use \"wendland-c2\" "
+            "(docs/fluids.md, \"Kernels in 3D\")",
+            sph_kernel_name((sph_kernel)kernel),
+            kernel == SPH_KERNEL_LAGUERRE_GAUSS ? "1.41" : "0.94",
+            kernel == SPH_KERNEL_LAGUERRE_GAUSS ? "2" : "1.55");
     if ((st = scene_number(L, g, SK_METHOD_SMOOTHING_RATIO, &sc->smoothing_ratio))) return st;
     /* xi_E: the coefficient of the shear-acceleration Laplacian, 0.7 d + 2.1
      * as calibrated in 000 (eq. 23, "zeta"; 003 eq. 25) */
