@@ -884,8 +884,7 @@ sph_status sph_particles_generate_ex(const sph_scene *scene, sph_particles *out,
                             "would move its particles into the wall; give the body its shape "
                             "without the wall's (a \"difference\" shape of the two, as "
                             "cases/cylinder_flow_2d/scene.cfg's flow = box minus disc)",
-                            body->where, scene->shapes[body->shape].name, w->name, w->where,
-                            point);
+                            body->where, scene->shapes[body->shape].name, w->name, w->where, point);
         }
         if (count == 0)
             return sph_fail(err, SPH_ERR_INPUT,
