@@ -26,9 +26,10 @@
  * weakly compressible and as an ideal gas with HLLC, and the Shu-Osher tube
  * of cases/shu_osher_1d at dp = 0.01 (fixed-state buffers, periodic in y,
  * the shock and the entropy waves) and as its true 1D line (line.cfg, the 1D
- * instances, dp = 1/200) and the vortex extruded in z (extruded_3d.cfg,
- * 3D, periodic on the three axes); with time.integrator = "ssp-rk2" the ideal-gas
- * vortex and the small cylinder (walls, far field), with "ssp-rk3" the small
+ * instances, dp = 1/200), the vortex extruded in z (extruded_3d.cfg,
+ * 3D, periodic on the three axes) and the sphere array of
+ * cases/stokes_array_3d at dp = 1/12 (a 3D wall body, gravity); with time.integrator = "ssp-rk2"
+ * the ideal-gas vortex and the small cylinder (walls, far field), with "ssp-rk3" the small
  * cylinder, 200 steps each.  Measured on pocl 3.1:
  * velocity <= 1.8e-14 (vortices), <= 2.0e-15 (tube); density, mass and
  * energy <= 3e-15.
@@ -244,6 +245,9 @@ int main(void) {
     /* 3D: the vortex extruded in z, periodic on the three axes (Wendland C2) */
     cross_check(&t, "taylor_green_2d/extruded_3d.cfg", NULL, 0, SPH_PRECISION_DOUBLE, stored,
                 1e-10);
+    /* 3D with a wall body: the sphere of cases/stokes_array_3d at dp = 1/12, gravity-driven */
+    const char *sphere_array[] = {"resolution.dp=0.0833333333333333"};
+    cross_check(&t, "stokes_array_3d", sphere_array, 1, SPH_PRECISION_DOUBLE, stored, 1e-10);
     /* SSP-RK2 (time.integrator): the ideal-gas vortex, and the small cylinder
      * (wall bodies, the far field, the wall force averaged over the stages) */
     const char *tgv_gas_rk2[] = {
