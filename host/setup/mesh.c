@@ -524,10 +524,14 @@ static bool segment_meets_triangle(const sph_mesh *m, const double *p, const dou
 /* Triangles t and u meet other than along the edge or at the vertex they
  * share: a point common to both into at. */
 static bool triangles_meet(const sph_mesh *m, int t, int u, double tol, double *at) {
-    int shared = 0, shared_vertex = -1;
+    /* the corners of t and of u that the other shares, as bit masks */
+    int shared = 0, shared_vertex = -1, t_shares = 0, u_shares = 0;
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            if (m->t[3 * t + i] == m->t[3 * u + j]) ++shared, shared_vertex = m->t[3 * t + i];
+            if (m->t[3 * t + i] == m->t[3 * u + j]) {
+                ++shared, shared_vertex = m->t[3 * t + i];
+                t_shares |= 1 << i, u_shares |= 1 << j;
+            }
     if (shared == 3) { /* the same triangle twice */
         for (int a = 0; a < 3; a++)
             at[a] = (vert(m, t, 0)[a] + vert(m, t, 1)[a] + vert(m, t, 2)[a]) / 3.0;
@@ -536,13 +540,9 @@ static bool triangles_meet(const sph_mesh *m, int t, int u, double tol, double *
     if (shared == 2) {
         /* two planes through one edge meet only there, unless they are one
          * plane and the triangles lie on the same side of the edge (a fold) */
-        int k = 0, l = 0;
-        while (m->t[3 * u + l] == m->t[3 * t + 0] || m->t[3 * u + l] == m->t[3 * t + 1] ||
-               m->t[3 * u + l] == m->t[3 * t + 2])
-            ++l;
-        while (m->t[3 * t + k] == m->t[3 * u + 0] || m->t[3 * t + k] == m->t[3 * u + 1] ||
-               m->t[3 * t + k] == m->t[3 * u + 2])
-            ++k;
+        /* the corner each does not share */
+        const int k = t_shares == 6 ? 0 : t_shares == 5 ? 1 : 2;
+        const int l = u_shares == 6 ? 0 : u_shares == 5 ? 1 : 2;
         const double *c = vert(m, t, k), *d = vert(m, u, l);
         const double *e0 = vert(m, t, (k + 1) % 3), *e1 = vert(m, t, (k + 2) % 3);
         double edge[3], ec[3], ed[3], nc[3], nd[3];
