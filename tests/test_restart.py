@@ -9,7 +9,10 @@ refuse a scene file or a change of physics; `sphsolid compare` passes on the
 identical runs and fails on a perturbed copy, naming the field and particle.
 A restart goes on writing checkpoints at the interval stored in the checkpoint
 and leaves no .partial checkpoint; one to an end before the checkpoint is
-refused.  A fluid run (the Taylor-Green vortex) to 0.3 s extended to 0.4 s equals
+refused; a damaged or edited checkpoint (a NaN, counters that disagree, ids
+that are not the scene's particles, a wall particle turned into fluid) is an
+input error naming the file and the value, with nothing written.  A fluid run
+(the Taylor-Green vortex) to 0.3 s extended to 0.4 s equals
 the run to 0.4 s bit for bit (an end on the output grid is the grid's own time).
 Under the sanitizers (sphtest.SANITIZED) the plate runs end at 0.1 s instead of 0.2 s: the
 same checkpoints at 0.04 and 0.08 s, and a shorter tail after them.
@@ -224,6 +227,55 @@ try:
     c = run(["compare", f_ref, f_ext, "--rtol", "0", "--atol", "0"])
     check(c.returncode == 0, "fluid run extended from 0.3 s to 0.4 s: compare --rtol 0 exit %d\n%s"
           % (c.returncode, c.stdout[-2000:]))
+
+    # a damaged or edited checkpoint is an input error naming the file and the value, with
+    # nothing written: before the checks, a NaN time ran to exit 0, negative step counts and a
+    # huge snapshot count hung, and an id out of range crashed the restart
+    def damage(source, name, edit, expected):
+        d, out = os.path.join(tmp, "damaged-" + name), os.path.join(tmp, "damaged-out-" + name)
+        shutil.copytree(source, d)
+        path = os.path.join(d, "checkpoint", "checkpoint.h5")
+        with h5py.File(path, "r+") as f:
+            edit(f)
+        p = run(["run", "--restart", d, "--out", out, "--backend", BACKEND, "--quiet",
+                 "--set", "time.end=0.5"])
+        check(p.returncode == 2 and path in p.stderr and expected in p.stderr and
+              "no run writes such a checkpoint" in p.stderr,
+              "damaged checkpoint (%s): exit %d, expected 2 naming %s and '%s': %s"
+              % (name, p.returncode, path, expected, p.stderr.strip()[-400:]))
+        written = os.listdir(out) if os.path.isdir(out) else []
+        check(not any(n in written for n in ("summary.json", "timeseries.csv", "snapshots")),
+              "damaged checkpoint (%s): nothing written to --out (%s)" % (name, written))
+
+    def set_attr(key, value):
+        return lambda f: f.attrs.__setitem__(key, value)
+
+    def set_value(dataset, index, value):
+        return lambda f: f[dataset].__setitem__(index, value)
+
+    nan = float("nan")
+    for name, edit, expected in (
+            ("time", set_attr("time", nan), "attribute 'time' is nan"),
+            ("steps", set_attr("acoustic_steps", -3), "'acoustic_steps' -3"),
+            ("snapshots", set_attr("snapshot_count", 10 ** 9), "'snapshot_count' 1000000000"),
+            ("outputs", set_attr("output_index", 10 ** 12), "'output_index' 1000000000000"),
+            ("series", set_value("series_time", 2, nan), "dataset 'series_time'[2] is nan"),
+            ("carried", set_value("carried", 0, nan), "dataset 'carried'[0] is nan"),
+            ("position", set_value("fields/pos", 3, nan), "fields/pos[3] is nan"),
+            ("mass", set_value("fields/mass", 3, 0.0), "fields/mass[3] is 0"),
+            ("id_range", set_value("fields/id", 3, 100000), "fields/id[3] is 100000"),
+            ("id_twice", set_value("fields/id", 3, 4), "the ids are the scene's particles")):
+        damage(f_ext, name, edit, expected)
+    # a wall particle turned into fluid: the kinds must be those the scene places
+    cyl, cyl_run = os.path.join(SRC, "cases", "cylinder_flow_2d", "small.cfg"), \
+        os.path.join(tmp, "cylinder")
+    p = run(["run", cyl, "--out", cyl_run, "--backend", BACKEND, "--quiet", "--set", "time.end=0.2",
+             "--set", "time.output_interval=0.1", "--checkpoint-every", "0.1"])
+    check(p.returncode == 0, "small cylinder to 0.2 s with a checkpoint: %s" % p.stderr)
+    if p.returncode == 0:
+        with h5py.File(os.path.join(cyl_run, "checkpoint", "checkpoint.h5"), "r") as f:
+            wall = int(list(f["fields/kind"][...]).index(1))
+        damage(cyl_run, "kind", set_value("fields/kind", wall, 0), "fields/kind[%d] is 0" % wall)
 
     # compare fails on a perturbed copy, naming the field and the particle
     d = os.path.join(tmp, "perturbed")

@@ -19,8 +19,8 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -L cpu
 
 # fuzzing: libFuzzer over the scene parser, validator and particle generator
-# for 60 s, over the run directory's writers for 20 s and over the mesh reader
-# for 20 s, from the seed
+# for 60 s, over the run directory's writers for 20 s, over the mesh reader
+# for 20 s and over the checkpoint reader for 20 s, from the seed
 # corpora (tests/fuzz; any crash, leak, UB report, hang or broken invariant
 # fails the script and leaves crash-* in build-fuzz)
 if ! command -v clang >/dev/null; then
@@ -30,7 +30,7 @@ elif [ ! -f "$(clang -print-file-name=libclang_rt.fuzzer-x86_64.a)" ]; then
 else
   cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DSPHSOLID_WERROR=ON -DSPHSOLID_FUZZ=ON
-  cmake --build build-fuzz --target fuzz_scene fuzz_writers fuzz_mesh -j "$jobs"
+  cmake --build build-fuzz --target fuzz_scene fuzz_writers fuzz_mesh fuzz_checkpoint -j "$jobs"
   mkdir -p build-fuzz/corpus build-fuzz/writers-corpus
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
     build-fuzz/tests/fuzz/fuzz_scene -max_total_time=60 -timeout=10 -rss_limit_mb=2048 \
@@ -54,6 +54,14 @@ else
     build-fuzz/tests/fuzz/fuzz_mesh -max_total_time=20 -timeout=10 -rss_limit_mb=2048 \
     -max_len=4096 -artifact_prefix=build-fuzz/ build-fuzz/mesh-corpus tests/fuzz/mesh_corpus \
     tests/fuzz/mesh_regressions
+  # the checkpoint reader for 20 s: a valid checkpoint edited value by value,
+  # resized, retyped and cut, read as a restart reads it (tests/fuzz/fuzz_checkpoint.c);
+  # its checkpoint is rewritten for each input, on /dev/shm where there is one
+  mkdir -p build-fuzz/checkpoint-corpus
+  TMPDIR=$fuzz_tmp LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0 \
+    build-fuzz/tests/fuzz/fuzz_checkpoint -max_total_time=20 -timeout=10 -rss_limit_mb=2048 \
+    -max_len=192 -artifact_prefix=build-fuzz/ build-fuzz/checkpoint-corpus \
+    tests/fuzz/checkpoint_corpus
 fi
 
 # formatting: the sources match .clang-format

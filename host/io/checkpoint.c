@@ -5,6 +5,8 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -259,7 +261,132 @@ static void restore_snapshots(const char *run_dir, long count) {
     }
 }
 
-sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_checkpoint *ck,
+/* A value no run writes: the checkpoint was damaged or edited. */
+__attribute__((format(printf, 3, 4))) static sph_status damaged(sph_error *err, const char *path,
+                                                                const char *fmt, ...) {
+    char what[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    return sph_fail(err, SPH_ERR_INPUT,
+                    "%s: %s: no run writes such a checkpoint (damaged or edited); restart from "
+                    "an intact one or run the scene again",
+                    path, what);
+}
+
+/* The counters, before anything is allocated or renamed by them.  Every
+ * output samples the series and advances output_index (host/run/solver.c),
+ * so output_index is the number of series rows; the next output time,
+ * output_index * output_interval, is after the time reached; a snapshot is
+ * written at outputs only. */
+static sph_status check_header(const char *path, const sph_checkpoint_header *h, long nsnap,
+                               double output_interval, sph_error *err) {
+    if (!(isfinite(h->time) && h->time >= 0.0))
+        return damaged(err, path, "attribute 'time' is %g", h->time);
+    if (!(isfinite(h->max_speed2) && h->max_speed2 >= 0.0))
+        return damaged(err, path, "attribute 'max_speed2' is %g", h->max_speed2);
+    if (h->advection_steps < 0 || h->acoustic_steps < h->advection_steps)
+        return damaged(err, path,
+                       "attributes 'acoustic_steps' %ld and 'advection_steps' %ld (0 <= "
+                       "advection_steps <= acoustic_steps)",
+                       h->acoustic_steps, h->advection_steps);
+    if (h->output_index < 1 || h->output_index > INT32_MAX ||
+        !((double)h->output_index * output_interval >= h->time * (1.0 - 1e-12)))
+        return damaged(err, path,
+                       "attribute 'output_index' %ld at t = %.9g s with time.output_interval = "
+                       "%g s (the next output time comes after t)",
+                       h->output_index, h->time, output_interval);
+    if (nsnap < 0 || nsnap > h->output_index)
+        return damaged(err, path,
+                       "attribute 'snapshot_count' %ld (from 0 to 'output_index', %ld: snapshots "
+                       "are written at outputs)",
+                       nsnap, h->output_index);
+    return SPH_OK;
+}
+
+/* Non-decreasing finite times from 0 to t; `name` for the message. */
+static sph_status check_times(const char *path, const char *name, const double *v, size_t count,
+                              double t, sph_error *err) {
+    for (size_t k = 0; k < count; ++k)
+        if (!(isfinite(v[k]) && v[k] >= 0.0 && v[k] <= t && (k == 0 || v[k] >= v[k - 1])))
+            return damaged(err, path,
+                           "dataset '%s'[%zu] is %.9g (times from 0 to t = %.9g s, in order)", name,
+                           k, v[k], t);
+    return SPH_OK;
+}
+
+static sph_status check_finite(const char *path, const char *name, const double *v, size_t count,
+                               sph_error *err) {
+    for (size_t k = 0; k < count; ++k)
+        if (!isfinite(v[k])) return damaged(err, path, "dataset '%s'[%zu] is %g", name, k, v[k]);
+    return SPH_OK;
+}
+
+/* The fields against the scene: finite reals, positive mass, volume and
+ * density, the ids a permutation of the scene's particles (the backends
+ * index the initial set by them), and each particle's body, material,
+ * constraint and kind those of the particle of its id. */
+static sph_status check_fields(const char *path, const sph_backend *be, const sph_checkpoint *ck,
+                               const sph_particles *initial, sph_error *err) {
+    const int n = be->n;
+    for (int k = 0; k < FIELD_COUNT; ++k) {
+        const sph_field_info *info = &be->fields[k];
+        if (!ck->field[k] || !sph_field_is_real(info->type)) continue;
+        const double *v = ck->field[k];
+        const size_t count = (size_t)n * (size_t)info->components;
+        const bool positive = k == FIELD_MASS || k == FIELD_VOL || k == FIELD_RHO;
+        for (size_t i = 0; i < count; ++i)
+            if (!isfinite(v[i]) || (positive && !(v[i] > 0.0)))
+                return damaged(err, path, "fields/%s[%zu] is %g%s", info->name, i, v[i],
+                               positive ? " (positive in every run)" : "");
+    }
+    const int32_t *id = ck->field[FIELD_ID];
+    if (!id || initial->n != n) return damaged(err, path, "no 'fields/id' of %d particles", n);
+    unsigned char *seen = calloc((size_t)n, 1);
+    if (!seen) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    sph_status st = SPH_OK;
+    for (int s = 0; !st && s < n; ++s) {
+        const int32_t i = id[s];
+        if (i < 0 || i >= n || seen[i]) {
+            st = damaged(err, path,
+                         "fields/id[%d] is %d (the ids are the scene's particles 0 to %d, each "
+                         "once)",
+                         s, (int)i, n - 1);
+            break;
+        }
+        seen[i] = 1;
+        static const struct {
+            sph_field field;
+            const char *what;
+        } tags[] = {{FIELD_BODY, "body"},
+                    {FIELD_MATERIAL, "material"},
+                    {FIELD_FIXED, "constraint"},
+                    {FIELD_KIND, "kind"}};
+        for (size_t t = 0; t < sizeof tags / sizeof tags[0]; ++t) {
+            const uint8_t *have = ck->field[tags[t].field];
+            const uint8_t *want = tags[t].field == FIELD_BODY       ? initial->body
+                                  : tags[t].field == FIELD_MATERIAL ? initial->material
+                                  : tags[t].field == FIELD_FIXED    ? initial->fixed
+                                                                    : initial->kind;
+            if (!have || !want || have[s] == want[i]) continue;
+            st = damaged(err, path,
+                         "fields/%s[%d] is %d, but the scene gives particle %d (fields/id) %s %d",
+                         be->fields[tags[t].field].name, s, (int)have[s], (int)i, tags[t].what,
+                         (int)want[i]);
+            break;
+        }
+    }
+    free(seen);
+    const int32_t *contacts = ck->field[FIELD_CONTACT_COUNT];
+    for (int s = 0; !st && contacts && s < n; ++s)
+        if (contacts[s] < 0 || contacts[s] > n)
+            st = damaged(err, path, "fields/contact_count[%d] is %d", s, (int)contacts[s]);
+    return st;
+}
+
+sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be,
+                               const sph_checkpoint_scene *scene, sph_checkpoint *ck,
                                sph_timeseries *ts, sph_error *err) {
     memset(ck, 0, sizeof *ck);
     char path[1200];
@@ -293,17 +420,24 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
     }
     free(backend);
     free(precision);
+    if (!st) st = check_header(path, &ck->h, nsnap, scene->output_interval, err);
+    if (!st) st = check_finite(path, "carried", ck->h.carried, SPH_CARRIED_LEN, err);
     if (!st && nsnap > 0) {
-        restore_snapshots(run_dir, nsnap);
         ck->h.nsnapshots = (int)nsnap;
         ck->h.snapshot_times = malloc((size_t)nsnap * sizeof(double));
         st = ck->h.snapshot_times ? sph_h5_read(f, path, "snapshot_times", H5T_NATIVE_DOUBLE,
                                                 ck->h.snapshot_times, (size_t)nsnap, err)
                                   : sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+        if (!st)
+            st = check_times(path, "snapshot_times", ck->h.snapshot_times, (size_t)nsnap,
+                             ck->h.time, err);
     }
     /* the series */
     size_t rows = 0;
     if (!st) st = sph_h5_size(f, path, "series_time", &rows, err);
+    if (!st && rows != (size_t)ck->h.output_index)
+        st = damaged(err, path, "dataset 'series_time' has %zu rows, attribute 'output_index' %ld",
+                     rows, ck->h.output_index);
     const size_t per_row = (size_t)(ts->nobservers * ts->dim);
     double *time = NULL, *diag = NULL, *obs = NULL;
     if (!st) {
@@ -325,6 +459,10 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
                                  rows * FLUID_VALUES, err)
                    : sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     }
+    if (!st) st = check_times(path, "series_time", time, rows, ck->h.time, err);
+    if (!st) st = check_finite(path, "series_diagnostics", diag, rows * DIAG_VALUES, err);
+    if (!st) st = check_finite(path, "series_observers", obs, rows * per_row, err);
+    if (!st && fluid) st = check_finite(path, "series_fluid", fluid, rows * FLUID_VALUES, err);
     for (size_t k = 0; !st && k < rows; ++k) {
         sph_diagnostics d = {0};
         diag_unpack(diag + k * DIAG_VALUES, &d);
@@ -359,7 +497,11 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_c
     }
     if (g >= 0) H5Gclose(g);
     H5Fclose(f);
-    if (st) sph_checkpoint_free(ck);
+    if (!st) st = check_fields(path, be, ck, scene->initial, err);
+    if (st)
+        sph_checkpoint_free(ck);
+    else
+        restore_snapshots(run_dir, nsnap);
     return st;
 }
 

@@ -66,9 +66,24 @@ sph_status sph_checkpoint_read_scene(const char *run_dir, char **scene_text, sph
  * read is an input error naming both formats). */
 sph_status sph_checkpoint_read_info(const char *run_dir, sph_checkpoint_info *info, sph_error *err);
 
+/* The scene a checkpoint must belong to: its particles as the scene places
+ * them, and its output interval. */
+typedef struct {
+    const sph_particles *initial;
+    double output_interval;
+} sph_checkpoint_scene;
+
 /* The state, for a backend of the same scene (`be` gives the field layout);
- * the series is appended to `ts`. */
-sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be, sph_checkpoint *ck,
+ * the series is appended to `ts`.  Everything read is checked before it is
+ * used, so that a damaged or edited checkpoint is an input error naming the
+ * file and the value (never a crash, a hang or a run from a state no run
+ * could reach): the counters against each other and against the time and
+ * the output interval, the series and snapshot times, every real value
+ * finite, mass, volume and density positive, the ids a permutation of the
+ * scene's particles, and each particle's body, material, constraint and
+ * kind those the scene gives the particle of its id. */
+sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be,
+                               const sph_checkpoint_scene *scene, sph_checkpoint *ck,
                                sph_timeseries *ts, sph_error *err);
 /* Put the fields and the carried state into the backend. */
 sph_status sph_checkpoint_restore(const sph_checkpoint *ck, sph_backend *be, sph_error *err);

@@ -256,10 +256,26 @@ static hid_t open_attr(hid_t loc, const char *path, const char *name, sph_error 
     return a;
 }
 
+/* Whether attribute a holds one value (H5Aread fills as many as it holds:
+ * an array where one value is read would overrun the reader's buffer). */
+static bool holds_one(hid_t a, const char *path, const char *name, sph_error *err) {
+    const hid_t space = H5Aget_space(a);
+    const hssize_t count = space < 0 ? -1 : H5Sget_simple_extent_npoints(space);
+    if (space >= 0) H5Sclose(space);
+    if (count != 1)
+        sph_fail(err, SPH_ERR_INPUT, "%s: attribute '%s' holds %lld values, not one", path, name,
+                 (long long)count);
+    return count == 1;
+}
+
 static sph_status read_attr(hid_t loc, const char *path, const char *name, hid_t memtype, void *out,
                             sph_error *err) {
     const hid_t a = open_attr(loc, path, name, err);
     if (a < 0) return SPH_ERR_INPUT;
+    if (!holds_one(a, path, name, err)) {
+        H5Aclose(a);
+        return SPH_ERR_INPUT;
+    }
     const herr_t rc = H5Aread(a, memtype, out);
     H5Aclose(a);
     return rc < 0 ? sph_fail(err, SPH_ERR_INPUT, "%s: cannot read attribute '%s'", path, name)
@@ -281,6 +297,10 @@ sph_status sph_h5_read_attr_string(hid_t loc, const char *path, const char *name
     *out = NULL;
     const hid_t a = open_attr(loc, path, name, err);
     if (a < 0) return SPH_ERR_INPUT;
+    if (!holds_one(a, path, name, err)) {
+        H5Aclose(a);
+        return SPH_ERR_INPUT;
+    }
     const hid_t ftype = H5Aget_type(a);
     const bool fixed =
         ftype >= 0 && H5Tget_class(ftype) == H5T_STRING && !H5Tis_variable_str(ftype);

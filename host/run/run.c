@@ -604,7 +604,8 @@ sph_status sph_simulation_run(sph_simulation *sim, sph_error *err) {
     char *parameters = NULL;
     sph_status st = SPH_OK;
     if (opt->restart_dir) {
-        st = sph_checkpoint_read(opt->restart_dir, sim->backend, &ck, &sim->series, err);
+        const sph_checkpoint_scene scene = {&sim->particles, sim->scene.output_interval};
+        st = sph_checkpoint_read(opt->restart_dir, sim->backend, &scene, &ck, &sim->series, err);
         if (st) return st;
         resumed = true;
         sim->restart_time = ck.h.time;
