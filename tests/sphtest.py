@@ -40,11 +40,11 @@ def run_sphsolid(scene, backend, out, sets=(), timeout=900, options=()):
     return p.returncode, p.stderr.strip()
 
 
-def run_quiet(scene, backend, out, sets=(), timeout=900):
+def run_quiet(scene, backend, out, sets=(), timeout=900, options=()):
     """Run a scene that must complete with the instability monitor quiet: checks the exit
     status and the summary's status, and returns (summary, time series), or (None, None)
     when the run failed."""
-    code, err = run_sphsolid(scene, backend, out, sets, timeout=timeout)
+    code, err = run_sphsolid(scene, backend, out, sets, timeout=timeout, options=options)
     check(code == 0, f"exit {code} ({err})")
     if code != 0:
         return None, None

@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""public_force_estimator.py CHECKPOINT — the force on the cylinder in one state of a run, by
+sphsolid's estimator and by the public code's, side by side.
+
+sphsolid's drag and lift are the momentum the fluid loses to the wall body: minus the wall
+pairs' share of the fluid's momentum rate, with the corrected gradients the step uses
+(`wall_force`, docs/fluids.md, "Boundaries").  The public code, whose numbers Table 5 of
+seed 004 reports, sums separate expressions over the wall particles at output times, with the
+uncorrected kernel gradient (eulerian-sph-reference.md §4, "Forces"):
+
+  viscous   F_i = w_i sum_j 4 mu (v_wall - v_j) / (r_ij + 0.01 h) dW_ij w_j
+  pressure  F_i = -w_i sum_j [(p_j + p_j^w) e_ij + D n_f] dW_ij w_j,
+            D = Z u_J min(3 max(u_J, 0) / c0, 1), u_J = 2 (v_j - v_wall) . n_f, Z = rho_j c0,
+
+with p_j^w = p_j + rho_j r_ij max(0, a_j . e_ij), a_j the fluid particle's viscous
+acceleration, which a checkpoint does not hold: taken as p_j here, so the public pressure part
+printed is a lower bound (the term only adds).  Both estimators read the same state: the
+checkpoint's positions, velocities, densities, pressures, volumes, kinds and wall normals (any
+`sphsolid run ... --checkpoint-every T` of the cylinder writes one).  Prints the pressure and
+viscous parts of C_D = 2 F_x / (rho U^2 D) and C_L for both (the scene's forces.reference_*).
+"""
+import argparse
+import re
+
+import h5py
+import numpy as np
+from scipy.spatial import cKDTree
+
+
+def scene_number(text, key, default=None):
+    m = re.search(r"\b%s\s*=\s*([-0-9.eE+]+)" % key, text)
+    return float(m.group(1)) if m else default
+
+
+def laguerre_gauss_gradient(r, h):
+    """dW/dr of the truncated Laguerre-Gauss kernel in 2D (device/sph_smoothing_kernel.h)."""
+    q = r / h
+    alpha = 3.0 / (np.pi * h * h)
+    df = q * (-q ** 4 / 3.0 + 8.0 * q ** 2 / 3.0 - 4.0) * np.exp(-q * q)
+    return np.where(q <= 2.0, alpha * df / h, 0.0)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("checkpoint", help="RUN/checkpoint/checkpoint.h5 of a cylinder run")
+    args = ap.parse_args()
+    with h5py.File(args.checkpoint, "r") as f:
+        text = bytes(f["scene_text"][...].astype(np.uint8)).decode(errors="replace")
+        if "laguerre-gauss" not in text or "dimension = 2" not in text:
+            raise SystemExit("%s: a 2D Laguerre-Gauss scene is expected" % args.checkpoint)
+        t, n = float(f.attrs["time"]), int(f.attrs["particles"])
+        fields = f["fields"]
+        pos = fields["pos"][...].reshape(2, n).T
+        vel = fields["vel"][...].reshape(2, n).T
+        rho, vol, kind = fields["rho"][...], fields["vol"][...], fields["kind"][...]
+        pressure = fields["pressure"][...]
+        normal = fields["normal"][...].reshape(2, n).T
+        wall_force = fields["wall_force"][...].reshape(4, n).T
+    dp, mu = scene_number(text, "dp"), scene_number(text, "viscosity")
+    c0 = scene_number(text, "sound_speed")
+    h = scene_number(text, "smoothing_ratio", 1.3) * dp
+    scale = 2.0 / (scene_number(text, "reference_density", 1.0) *
+                   scene_number(text, "reference_speed", 1.0) ** 2 *
+                   scene_number(text, "reference_length", 1.0))
+
+    # sphsolid: minus the fluid's share of the wall pairs' momentum rate
+    ours = -wall_force.sum(axis=0) * scale  # pressure x, y, viscous x, y
+
+    # the public code's sums over the wall particles
+    wall, fluid = np.where(kind == 1)[0], np.where(kind != 1)[0]
+    tree = cKDTree(pos[fluid])
+    press, press_no_d, visc = np.zeros(2), np.zeros(2), np.zeros(2)
+    for i in wall:
+        js = fluid[tree.query_ball_point(pos[i], 2.0 * h)]
+        d = pos[i] - pos[js]
+        r = np.hypot(d[:, 0], d[:, 1])
+        js, d, r = js[r > 0], d[r > 0], r[r > 0]
+        e = d / r[:, None]
+        g = laguerre_gauss_gradient(r, h) * vol[js]
+        visc += vol[i] * (4.0 * mu * -vel[js] / (r + 0.01 * h)[:, None] * g[:, None]).sum(axis=0)
+        u_j = 2.0 * (vel[js] @ normal[i])
+        dissipation = rho[js] * c0 * u_j * np.minimum(3.0 * np.maximum(u_j, 0.0) / c0, 1.0)
+        p_term = -vol[i] * ((2.0 * pressure[js])[:, None] * e * g[:, None]).sum(axis=0)
+        press_no_d += p_term
+        press += p_term - vol[i] * (dissipation * g).sum() * normal[i]
+    press, press_no_d, visc = press * scale, press_no_d * scale, visc * scale
+
+    print("t = %.4g, dp = %g, h = %g, %d wall particles" % (t, dp, h, len(wall)))
+    print("%-36s %9s %9s %9s %9s" % ("estimator", "C_D", "pressure", "viscous", "C_L"))
+    print("%-36s %9.4f %9.4f %9.4f %9.4f" % ("sphsolid (momentum exchange)", ours[0] + ours[2],
+                                            ours[0], ours[2], ours[1] + ours[3]))
+    print("%-36s %9.4f %9.4f %9.4f %9.4f" % ("public code (p_j^w = p_j)", press[0] + visc[0],
+                                            press[0], visc[0], press[1] + visc[1]))
+    print("%-36s %9.4f %9.4f" % ("  its pressure part without D", press_no_d[0] + visc[0],
+                                 press_no_d[0]))
+
+
+if __name__ == "__main__":
+    main()
