@@ -24,7 +24,6 @@ import re
 
 import h5py
 import numpy as np
-from scipy.spatial import cKDTree
 
 
 def scene_number(text, key, default=None):
@@ -68,13 +67,15 @@ def main():
 
     # the public code's sums over the wall particles
     wall, fluid = np.where(kind == 1)[0], np.where(kind != 1)[0]
-    tree = cKDTree(pos[fluid])
+    # the fluid within 2h of the wall body's box: the only candidates of its pairs
+    lo, hi = pos[wall].min(axis=0) - 2.0 * h, pos[wall].max(axis=0) + 2.0 * h
+    fluid = fluid[np.all((pos[fluid] >= lo) & (pos[fluid] <= hi), axis=1)]
     press, press_no_d, visc = np.zeros(2), np.zeros(2), np.zeros(2)
     for i in wall:
-        js = fluid[tree.query_ball_point(pos[i], 2.0 * h)]
-        d = pos[i] - pos[js]
+        d = pos[i] - pos[fluid]
         r = np.hypot(d[:, 0], d[:, 1])
-        js, d, r = js[r > 0], d[r > 0], r[r > 0]
+        near = (r > 0.0) & (r <= 2.0 * h)
+        js, d, r = fluid[near], d[near], r[near]
         e = d / r[:, None]
         g = laguerre_gauss_gradient(r, h) * vol[js]
         visc += vol[i] * (4.0 * mu * -vel[js] / (r + 0.01 * h)[:, None] * g[:, None]).sum(axis=0)
