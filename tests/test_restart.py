@@ -9,7 +9,8 @@ refuse a scene file or a change of physics; `sphsolid compare` passes on the
 identical runs and fails on a perturbed copy, naming the field and particle.
 A restart goes on writing checkpoints at the interval stored in the checkpoint
 and leaves no .partial checkpoint; one to an end before the checkpoint is
-refused; a damaged or edited checkpoint (a NaN, counters that disagree, ids
+refused; a run that ended between output times, extended, goes on with the
+output grid; a damaged or edited checkpoint (a NaN, counters that disagree, ids
 that are not the scene's particles, a wall particle turned into fluid) is an
 input error naming the file and the value, with nothing written.  A fluid run
 (the Taylor-Green vortex) to 0.3 s extended to 0.4 s equals
@@ -227,6 +228,26 @@ try:
     c = run(["compare", f_ref, f_ext, "--rtol", "0", "--atol", "0"])
     check(c.returncode == 0, "fluid run extended from 0.3 s to 0.4 s: compare --rtol 0 exit %d\n%s"
           % (c.returncode, c.stdout[-2000:]))
+
+    # a run whose end falls between output times (0.55 s, outputs every 0.1 s), extended to
+    # 0.8 s, goes on with the output grid: 0.6 s next, not 0.7 s (before, the end's output
+    # took the grid time after it); its series keeps the end's row, and a second extension
+    # from the checkpoint that follows restarts as well
+    off = os.path.join(tmp, "off_grid")
+    offgrid = ["--backend", BACKEND, "--quiet", "--set", "resolution.dp=0.1",
+               "--set", "time.output_interval=0.1"]
+    p = run(["run", tgv, "--out", off, "--set", "time.end=0.55", "--checkpoint-every", "0.55"]
+            + offgrid)
+    check(p.returncode == 0, "fluid run to 0.55 s: %s" % p.stderr)
+    for end in ("0.8", "1.0"):
+        p = run(["run", "--restart", off, "--backend", BACKEND, "--quiet", "--set",
+                 "time.end=" + end])
+        check(p.returncode == 0, "off-grid run extended to %s s: %s" % (end, p.stderr))
+    with open(os.path.join(off, "timeseries.csv")) as f:
+        times = [round(float(line.split(",")[0]), 9) for line in f.readlines()[1:]]
+    expected = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.55, 0.6, 0.7, 0.8, 0.9, 1.0]
+    check(times == expected, "off-grid end extended: output times %s, expected %s"
+          % (times, expected))
 
     # a damaged or edited checkpoint is an input error naming the file and the value, with
     # nothing written: before the checks, a NaN time ran to exit 0, negative step counts and a

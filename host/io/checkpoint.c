@@ -277,7 +277,9 @@ __attribute__((format(printf, 3, 4))) static sph_status damaged(sph_error *err, 
 
 /* The counters, before anything is allocated or renamed by them.  Every
  * output samples the series and advances output_index (host/run/solver.c),
- * so output_index is the number of series rows; the next output time,
+ * so the series has at least output_index rows (more after a restart that
+ * extended a run whose end was not an output time: the end's row, then the
+ * grid again, resume_output_index in solver.c); the next output time,
  * output_index * output_interval, is after the time reached; a snapshot is
  * written at outputs only. */
 static sph_status check_header(const char *path, const sph_checkpoint_header *h, long nsnap,
@@ -435,8 +437,10 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be,
     /* the series */
     size_t rows = 0;
     if (!st) st = sph_h5_size(f, path, "series_time", &rows, err);
-    if (!st && rows != (size_t)ck->h.output_index)
-        st = damaged(err, path, "dataset 'series_time' has %zu rows, attribute 'output_index' %ld",
+    if (!st && rows < (size_t)ck->h.output_index)
+        st = damaged(err, path,
+                     "dataset 'series_time' has %zu rows, attribute 'output_index' %ld (a row "
+                     "per output)",
                      rows, ck->h.output_index);
     const size_t per_row = (size_t)(ts->nobservers * ts->dim);
     double *time = NULL, *diag = NULL, *obs = NULL;

@@ -288,6 +288,18 @@ static long substep_chunk(double seconds_each, double interval) {
     return (long)n / 64 * 64;
 }
 
+/* The output a restart writes next.  A run that ended between two output
+ * times wrote its end as an output and moved past the grid time after it
+ * (end 0.55 s with outputs every 0.1 s: the next index is 7, at 0.7 s); a
+ * restart to a later end gives that grid time its output (0.6 s), so the
+ * extended run keeps the grid and has one row more, at the old end
+ * (checkpoint.c allows a series longer than output_index).  A checkpoint
+ * taken between outputs has its next grid time after it: unchanged. */
+static long resume_output_index(const sph_checkpoint *ck, double output_interval) {
+    const long k = ck->h.output_index;
+    return k > 1 && (double)(k - 1) * output_interval > ck->h.time ? k - 1 : k;
+}
+
 /* Write a checkpoint of the state at this advection-step boundary. */
 static sph_status checkpoint(const sph_solver_args *a, double t, double max_speed2,
                              long output_index, const sph_run_stats *stats,
@@ -398,14 +410,15 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         } else {
             if (!st) st = sph_checkpoint_restore(ck, be, err);
             const double next =
-                fmin((double)ck->h.output_index * sc->output_interval, sc->end_time);
+                fmin((double)resume_output_index(ck, sc->output_interval) * sc->output_interval,
+                     sc->end_time);
             be->geometry_shift =
                 geometry_shift(sc, h, c0, u_ref, ck->h.max_speed2, ck->h.time, next);
             if (!st) st = be->ops->rebuild(be, &info, err);
         }
         t = ck->h.time;
         max_speed2 = ck->h.max_speed2;
-        output_index = ck->h.output_index;
+        output_index = resume_output_index(ck, sc->output_interval);
         stats->acoustic_steps = ck->h.acoustic_steps;
         stats->advection_steps = ck->h.advection_steps;
     } else {
