@@ -108,8 +108,7 @@ try:
                                capture_output=True, text=True, timeout=300)
             rows = {line[:36].strip(): line[36:].split() for line in p.stdout.splitlines()
                     if line.startswith(("sphsolid", "public"))}
-            ours, public = rows.get("sphsolid (momentum exchange)"), \
-                rows.get("public code (p_j^w = p_j)")
+            ours, public = rows.get("sphsolid (momentum exchange)"), rows.get("public code")
             check(p.returncode == 0 and ours and public,
                   f"public_force_estimator.py: exit {p.returncode}: {p.stdout}{p.stderr}")
             if ours and public:
