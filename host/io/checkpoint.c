@@ -424,6 +424,15 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be,
     free(precision);
     if (!st) st = check_header(path, &ck->h, nsnap, scene->output_interval, err);
     if (!st) st = check_finite(path, "carried", ck->h.carried, SPH_CARRIED_LEN, err);
+    /* the series' length bounds output_index, and so the snapshot count,
+     * by what the file holds before anything is allocated by them */
+    size_t rows = 0;
+    if (!st) st = sph_h5_size(f, path, "series_time", &rows, err);
+    if (!st && rows < (size_t)ck->h.output_index)
+        st = damaged(err, path,
+                     "dataset 'series_time' has %zu rows, attribute 'output_index' %ld (a row "
+                     "per output)",
+                     rows, ck->h.output_index);
     if (!st && nsnap > 0) {
         ck->h.nsnapshots = (int)nsnap;
         ck->h.snapshot_times = malloc((size_t)nsnap * sizeof(double));
@@ -435,13 +444,6 @@ sph_status sph_checkpoint_read(const char *run_dir, const sph_backend *be,
                              ck->h.time, err);
     }
     /* the series */
-    size_t rows = 0;
-    if (!st) st = sph_h5_size(f, path, "series_time", &rows, err);
-    if (!st && rows < (size_t)ck->h.output_index)
-        st = damaged(err, path,
-                     "dataset 'series_time' has %zu rows, attribute 'output_index' %ld (a row "
-                     "per output)",
-                     rows, ck->h.output_index);
     const size_t per_row = (size_t)(ts->nobservers * ts->dim);
     double *time = NULL, *diag = NULL, *obs = NULL;
     if (!st) {

@@ -401,6 +401,7 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
         /* the stored state replaces the initial one; the rebuild then starts
          * from the same particle order the interrupted run had */
         const sph_checkpoint *ck = a->resume;
+        output_index = resume_output_index(ck, sc->output_interval);
         if (total_lagrangian) {
             /* the reference configuration first, from the initial particles
              * in the original run's deterministic order; the stored fields
@@ -409,16 +410,13 @@ sph_status sph_solve(const sph_solver_args *a, sph_timeseries *ts, sph_run_stats
             if (!st) st = sph_checkpoint_restore(ck, be, err);
         } else {
             if (!st) st = sph_checkpoint_restore(ck, be, err);
-            const double next =
-                fmin((double)resume_output_index(ck, sc->output_interval) * sc->output_interval,
-                     sc->end_time);
+            const double next = fmin((double)output_index * sc->output_interval, sc->end_time);
             be->geometry_shift =
                 geometry_shift(sc, h, c0, u_ref, ck->h.max_speed2, ck->h.time, next);
             if (!st) st = be->ops->rebuild(be, &info, err);
         }
         t = ck->h.time;
         max_speed2 = ck->h.max_speed2;
-        output_index = resume_output_index(ck, sc->output_interval);
         stats->acoustic_steps = ck->h.acoustic_steps;
         stats->advection_steps = ck->h.advection_steps;
     } else {
