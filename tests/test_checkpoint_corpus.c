@@ -35,18 +35,6 @@ static void expect_refused(test_counts *c, const char *what, fuzz_checkpoint_res
           r.violation, (int)r.accepted, r.message);
 }
 
-enum { OP_SET, OP_RESIZE, OP_DELETE, OP_STRING };
-enum { MODE_RAW, MODE_SCALE, MODE_SMALL, MODE_SPECIAL };
-/* the targets (fuzz_checkpoint.c): the attributes, the datasets, the fields */
-enum {
-    T_OUTPUT_INDEX = 2,
-    T_ACOUSTIC_STEPS = 3,
-    T_SNAPSHOT_COUNT = 5,
-    T_TIME = 6,
-    T_CARRIED = 12,
-    T_SERIES_TIME = 14
-};
-
 int main(void) {
     test_counts c = {0, 0};
     fuzz_checkpoint_result r;
@@ -54,27 +42,32 @@ int main(void) {
     CHECK(&c, !r.violation[0] && r.accepted, "the unedited checkpoint: accepted (%s%s)",
           r.violation, r.message);
     /* the value it has, rewritten (times 1 + 0/16): still accepted */
-    r = run_edit(T_TIME, OP_SET, MODE_SCALE, 0, 0);
+    r = run_edit(FUZZ_TARGET_TIME, FUZZ_EDIT_SET, FUZZ_VALUE_SCALE, 0, 0);
     CHECK(&c, !r.violation[0] && r.accepted, "the time rewritten as it was: accepted (%s%s)",
           r.violation, r.message);
-    expect_refused(&c, "a NaN time", run_edit(T_TIME, OP_SET, MODE_SPECIAL, 0, 0),
+    expect_refused(&c, "a NaN time",
+                   run_edit(FUZZ_TARGET_TIME, FUZZ_EDIT_SET, FUZZ_VALUE_SPECIAL, 0, 0),
                    "attribute 'time' is nan");
-    expect_refused(&c, "negative steps", run_edit(T_ACOUSTIC_STEPS, OP_SET, MODE_SMALL, 0, -3),
+    expect_refused(&c, "negative steps",
+                   run_edit(FUZZ_TARGET_ACOUSTIC_STEPS, FUZZ_EDIT_SET, FUZZ_VALUE_SMALL, 0, -3),
                    "'acoustic_steps' -3");
     expect_refused(&c, "a huge snapshot count",
-                   run_edit(T_SNAPSHOT_COUNT, OP_SET, MODE_SPECIAL, 0, 2), "'snapshot_count'");
+                   run_edit(FUZZ_TARGET_SNAPSHOT_COUNT, FUZZ_EDIT_SET, FUZZ_VALUE_SPECIAL, 0, 2),
+                   "'snapshot_count'");
     /* an attribute of three values where one is read overran the reader's
      * int64 before the check */
     expect_refused(&c, "output_index as three values",
-                   run_edit(T_OUTPUT_INDEX, OP_RESIZE, MODE_SMALL, 3, 6),
+                   run_edit(FUZZ_TARGET_OUTPUT_INDEX, FUZZ_EDIT_RESIZE, FUZZ_VALUE_SMALL, 3, 6),
                    "attribute 'output_index' holds 3 values, not one");
     expect_refused(&c, "a series shorter than the outputs",
-                   run_edit(T_SERIES_TIME, OP_RESIZE, MODE_SMALL, 2, 0),
+                   run_edit(FUZZ_TARGET_SERIES_TIME, FUZZ_EDIT_RESIZE, FUZZ_VALUE_SMALL, 2, 0),
                    "dataset 'series_time' has 2 rows, attribute 'output_index' 6");
     expect_refused(&c, "a NaN in the carried state",
-                   run_edit(T_CARRIED, OP_SET, MODE_SPECIAL, 0, 0), "dataset 'carried'[0] is nan");
+                   run_edit(FUZZ_TARGET_CARRIED, FUZZ_EDIT_SET, FUZZ_VALUE_SPECIAL, 0, 0),
+                   "dataset 'carried'[0] is nan");
     expect_refused(&c, "the carried state as a string",
-                   run_edit(T_CARRIED, OP_STRING, MODE_RAW, 0, 0), "carried");
+                   run_edit(FUZZ_TARGET_CARRIED, FUZZ_EDIT_STRING, FUZZ_VALUE_RAW, 0, 0),
+                   "carried");
 
     const int ncorpus = corpus_replay_dir(&c, "tests/fuzz/checkpoint_corpus", replay_checkpoint);
     CHECK(&c, ncorpus >= 5, "only %d corpus inputs", ncorpus);

@@ -211,14 +211,24 @@ static bool make_fixture(fixture *fx) {
 
 /* ---- the edits ------------------------------------------------------------ */
 
-static const char *const ATTRIBUTES[] = {
-    "format",           "particles",       "output_index", "acoustic_steps",
-    "advection_steps",  "snapshot_count",  "time",         "max_speed2",
-    "checkpoint_every", "checkpoint_wall", "backend",      "precision"};
-static const char *const DATASETS[] = {"carried", "snapshot_times", "series_time",
-                                       "series_diagnostics", "series_fluid"};
-#define NATTRIBUTES (int)(sizeof ATTRIBUTES / sizeof ATTRIBUTES[0])
-#define NDATASETS   (int)(sizeof DATASETS / sizeof DATASETS[0])
+static const char *const TARGET_NAMES[FUZZ_TARGET_FIRST_FIELD] = {
+    [FUZZ_TARGET_FORMAT] = "format",
+    [FUZZ_TARGET_PARTICLES] = "particles",
+    [FUZZ_TARGET_OUTPUT_INDEX] = "output_index",
+    [FUZZ_TARGET_ACOUSTIC_STEPS] = "acoustic_steps",
+    [FUZZ_TARGET_ADVECTION_STEPS] = "advection_steps",
+    [FUZZ_TARGET_SNAPSHOT_COUNT] = "snapshot_count",
+    [FUZZ_TARGET_TIME] = "time",
+    [FUZZ_TARGET_MAX_SPEED2] = "max_speed2",
+    [FUZZ_TARGET_CHECKPOINT_EVERY] = "checkpoint_every",
+    [FUZZ_TARGET_CHECKPOINT_WALL] = "checkpoint_wall",
+    [FUZZ_TARGET_BACKEND] = "backend",
+    [FUZZ_TARGET_PRECISION] = "precision",
+    [FUZZ_TARGET_CARRIED] = "carried",
+    [FUZZ_TARGET_SNAPSHOT_TIMES] = "snapshot_times",
+    [FUZZ_TARGET_SERIES_TIME] = "series_time",
+    [FUZZ_TARGET_SERIES_DIAGNOSTICS] = "series_diagnostics",
+    [FUZZ_TARGET_SERIES_FLUID] = "series_fluid"};
 
 typedef struct {
     int op, mode, index;
@@ -242,11 +252,11 @@ static double value_double(const edit *e, double now) {
     double raw;
     memcpy(&raw, e->raw, sizeof raw);
     switch (e->mode) {
-    case 0:
+    case FUZZ_VALUE_RAW:
         return raw;
-    case 1:
+    case FUZZ_VALUE_SCALE:
         return now * (1.0 + e->small / 16.0);
-    case 2:
+    case FUZZ_VALUE_SMALL:
         return e->small;
     default:
         return special_double(e->small);
@@ -257,13 +267,13 @@ static int64_t value_int(const edit *e, int64_t now, int n) {
     int64_t raw;
     memcpy(&raw, e->raw, sizeof raw);
     switch (e->mode) {
-    case 0:
+    case FUZZ_VALUE_RAW:
         return raw;
-    case 1: {
+    case FUZZ_VALUE_SCALE: {
         const double v = (double)now * (1.0 + e->small / 16.0);
         return v > -9.2e18 && v < 9.2e18 ? (int64_t)v : 0;
     }
-    case 2:
+    case FUZZ_VALUE_SMALL:
         return e->small;
     default:
         return special_int(e->small, n);
@@ -310,13 +320,13 @@ static void edit_attribute(hid_t file, const char *name, const edit *e, int n) {
         H5Aclose(old);
     }
     H5Adelete(file, name);
-    if (e->op == 2) return;
-    if (e->op == 3 || string) {
+    if (e->op == FUZZ_EDIT_DELETE) return;
+    if (e->op == FUZZ_EDIT_STRING || string) {
         write_string_attribute(file, name, e);
         return;
     }
     /* op 1: an array of `index % 4` values (a scalar when 0) */
-    const hsize_t count = e->op == 1 ? (hsize_t)(e->index % 4) : 0;
+    const hsize_t count = e->op == FUZZ_EDIT_RESIZE ? (hsize_t)(e->index % 4) : 0;
     const hid_t space = count ? H5Screate_simple(1, &count, NULL) : H5Screate(H5S_SCALAR);
     const hid_t ftype = integer ? H5T_STD_I64LE : H5T_IEEE_F64LE;
     const hid_t a = H5Acreate2(file, name, ftype, space, H5P_DEFAULT, H5P_DEFAULT);
@@ -344,7 +354,7 @@ static void edit_dataset(hid_t file, const char *name, const edit *e, int n) {
         if (space >= 0) H5Sclose(space);
     }
     const bool integer = ftype >= 0 && is_integer_type(ftype);
-    if (e->op == 0 && ds >= 0 && len > 0) {
+    if (e->op == FUZZ_EDIT_SET && ds >= 0 && len > 0) {
         /* one value (of any rank, counted in storage order), converted to
          * the file's type by HDF5: the whole dataset read and written back */
         const size_t at = (size_t)e->index % (size_t)len;
@@ -365,12 +375,12 @@ static void edit_dataset(hid_t file, const char *name, const edit *e, int n) {
         }
     }
     if (ds >= 0) H5Dclose(ds);
-    if (e->op == 0) {
+    if (e->op == FUZZ_EDIT_SET) {
         if (ftype >= 0) H5Tclose(ftype);
         return;
     }
     H5Ldelete(file, name, H5P_DEFAULT);
-    if (e->op == 1) {
+    if (e->op == FUZZ_EDIT_RESIZE) {
         /* `index % 1024` values of the old type, each the value given */
         const hsize_t count = (hsize_t)(e->index % 1024);
         const hid_t space = H5Screate_simple(1, &count, NULL);
@@ -391,7 +401,7 @@ static void edit_dataset(hid_t file, const char *name, const edit *e, int n) {
         }
         if (nds >= 0) H5Dclose(nds);
         H5Sclose(space);
-    } else if (e->op == 3) {
+    } else if (e->op == FUZZ_EDIT_STRING) {
         /* a string in place of the numbers */
         const hsize_t count = 1;
         const hid_t t = H5Tcopy(H5T_C_S1);
@@ -414,7 +424,7 @@ static int target_count(const fixture *fx, const char **fields, int max_fields) 
     for (int k = 0; k < FIELD_COUNT && nf < max_fields; ++k)
         if (fx->standin.be.fields[k].present && !sph_field_is_derived((sph_field)k))
             fields[nf++] = fx->standin.be.fields[k].name;
-    return NATTRIBUTES + NDATASETS + nf;
+    return FUZZ_TARGET_FIRST_FIELD + nf;
 }
 
 static int apply_edits(const fixture *fx, const uint8_t *data, size_t size) {
@@ -434,13 +444,13 @@ static int apply_edits(const fixture *fx, const uint8_t *data, size_t size) {
                         .raw = {b[4], b[5], b[6], b[7], b[8], b[9], b[10], b[11]}};
         const int target = b[0] % ntargets;
         const int n = fx->standin.be.n;
-        if (target < NATTRIBUTES) {
-            edit_attribute(file, ATTRIBUTES[target], &e, n);
-        } else if (target < NATTRIBUTES + NDATASETS) {
-            edit_dataset(file, DATASETS[target - NATTRIBUTES], &e, n);
+        if (target < FUZZ_TARGET_ATTRIBUTES) {
+            edit_attribute(file, TARGET_NAMES[target], &e, n);
+        } else if (target < FUZZ_TARGET_FIRST_FIELD) {
+            edit_dataset(file, TARGET_NAMES[target], &e, n);
         } else {
             char name[128];
-            snprintf(name, sizeof name, "fields/%s", fields[target - NATTRIBUTES - NDATASETS]);
+            snprintf(name, sizeof name, "fields/%s", fields[target - FUZZ_TARGET_FIRST_FIELD]);
             edit_dataset(file, name, &e, n);
         }
     }

@@ -5,13 +5,14 @@
  *
  * An input is a list of edits of FUZZ_CHECKPOINT_EDIT_BYTES bytes each (a
  * trailing partial edit is ignored, at most FUZZ_CHECKPOINT_MAX_EDITS):
- *   byte 0     the target: an attribute of the file or one of its datasets
- *              (the series, the carried state, the snapshot times, each
- *              field), modulo their number;
- *   byte 1     bits 0-1, the operation: 0 set one value, 1 resize the
- *              dataset (or rewrite the attribute) holding `index` values of
- *              the one given, 2 delete it, 3 rewrite it as a string; bits
- *              2-3, how the value is read: 0 the eight bytes as a double
+ *   byte 0     the target (FUZZ_TARGET_*): an attribute of the file or one
+ *              of its datasets (the series, the carried state, the
+ *              snapshot times, each field), modulo their number;
+ *   byte 1     bits 0-1, the operation (FUZZ_EDIT_*): 0 set one value,
+ *              1 resize the dataset (or rewrite the attribute) holding
+ *              `index` values of the one given, 2 delete it, 3 rewrite it
+ *              as a string; bits 2-3, how the value is read (FUZZ_VALUE_*):
+ *              0 the eight bytes as a double
  *              (an integer target: as an int64), 1 the value there times
  *              (1 + int8 / 16), 2 the int8 itself, 3 a special value
  *              (NaN, +-Inf, -0, the largest and smallest doubles, INT64
@@ -32,6 +33,34 @@
 
 #define FUZZ_CHECKPOINT_EDIT_BYTES 12
 #define FUZZ_CHECKPOINT_MAX_EDITS  16
+
+/* byte 1, bits 0-1: the operation */
+enum { FUZZ_EDIT_SET, FUZZ_EDIT_RESIZE, FUZZ_EDIT_DELETE, FUZZ_EDIT_STRING };
+/* byte 1, bits 2-3: how the value is read */
+enum { FUZZ_VALUE_RAW, FUZZ_VALUE_SCALE, FUZZ_VALUE_SMALL, FUZZ_VALUE_SPECIAL };
+/* byte 0: the targets, the attributes first, then the datasets, then the
+ * stored fields in the registry's order (fuzz_checkpoint.c) */
+enum {
+    FUZZ_TARGET_FORMAT,
+    FUZZ_TARGET_PARTICLES,
+    FUZZ_TARGET_OUTPUT_INDEX,
+    FUZZ_TARGET_ACOUSTIC_STEPS,
+    FUZZ_TARGET_ADVECTION_STEPS,
+    FUZZ_TARGET_SNAPSHOT_COUNT,
+    FUZZ_TARGET_TIME,
+    FUZZ_TARGET_MAX_SPEED2,
+    FUZZ_TARGET_CHECKPOINT_EVERY,
+    FUZZ_TARGET_CHECKPOINT_WALL,
+    FUZZ_TARGET_BACKEND,
+    FUZZ_TARGET_PRECISION,
+    FUZZ_TARGET_ATTRIBUTES, /* the number of attribute targets */
+    FUZZ_TARGET_CARRIED = FUZZ_TARGET_ATTRIBUTES,
+    FUZZ_TARGET_SNAPSHOT_TIMES,
+    FUZZ_TARGET_SERIES_TIME,
+    FUZZ_TARGET_SERIES_DIAGNOSTICS,
+    FUZZ_TARGET_SERIES_FLUID,
+    FUZZ_TARGET_FIRST_FIELD /* then the fields */
+};
 
 typedef struct {
     int edits;           /* edits applied */
