@@ -760,7 +760,7 @@ KERNEL void eulerian_mass_energy_rate(
  * instance) is a "far" pair, summed on one thread afterwards.  A block then
  * writes to itself and the next block only, so the even blocks run in
  * parallel, then the odd ones: every sum gets its terms in the same order
- * whatever the number of threads (PAIRS_ONCE, host/backend/cpu/backend_cpu_kernels.c).
+ * whatever the number of threads (PAIRS_ONCE_THEN, host/backend/cpu/backend_cpu_kernels.c).
  * The sums of the gather passes come in another order, so the two backends
  * agree to round-off, not bit for bit (tests/test_cross_check: 1e-10).
  * Measured: docs/fluids.md, "Speed on the CPU". */
@@ -771,6 +771,45 @@ KERNEL void eulerian_mass_energy_rate(
 #            define ONCE_ROWS_PARAMS                                                               \
                 GLOBAL const int *restrict row_start, GLOBAL const int *restrict nbr_j
 
+/* A once lane's neighbour j.  Weakly compressible, every writer of the
+ * pressure stores the equation of state of the density it stores
+ * (eulerian_prepare, eulerian_update, eulerian_far_field: p = c0^2 (rho -
+ * rho0) of the same double), so the lanes form p_j from rho_j, the same
+ * operations on the same value, rather than gather it: one load fewer per
+ * pair.  The compressible state is gathered whole. */
+#            if SPH_HAS_COMPRESSIBLE
+#                define ONCE_POINT(j, v_j) FLUID_POINT(j, v_j)
+#                define ONCE_PRESSURE(q_)  (void)0
+#            else
+#                define ONCE_POINT(j, v_j) fluid_point_make((real)rho[j], R(0), (v_j), R(0), R(0))
+#                define ONCE_PRESSURE(q_)                                                          \
+                    (q_).p = prm->materials[0].c0 * prm->materials[0].c0 *                         \
+                             ((q_).rho - prm->materials[0].rho0)
+#            endif
+
+/* A once row's lanes are always whole (build_once_rows pads each part to
+ * whole lanes with empty pairs: j = i, zero geometry, whose terms are
+ * zeros), so its lanes load their geometry as whole vectors and gather
+ * and scatter every lane without asking which are live: the same
+ * operations on the same values as PAIR_LANES_STATES (whose keep is 1 on
+ * every lane of a once row), without a branch per lane. */
+#            define ONCE_LANES_STATES(vel_)                                                        \
+                const int slot0 = ROW_SLOT(i, k0);                                                 \
+                lanes_vec e;                                                                       \
+                UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] =                                  \
+                    lanes_load_row(pair_e + a * stride + slot0);                                   \
+                const lanes dwv = lanes_load_row(pair_dwv + slot0);                                \
+                fluid_point_gather gq;                                                             \
+                UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {                            \
+                    const int j = nbr_j[slot0 + l];                                                \
+                    fluid_point_gather_set(&gq, l, ONCE_POINT(j, vec_load(vel_, n, j)), R(1));     \
+                }                                                                                  \
+                lanes keep_unused;                                                                 \
+                fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep_unused);                   \
+                (void)keep_unused;                                                                 \
+                ONCE_PRESSURE(q);                                                                  \
+                const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e)
+
 /* Stage 1 on row i's fluid pairs k_begin <= k < k_end, then its wall pairs
  * k_end <= k < walls_end (none for the far pairs): the momentum rate F into
  * force_sum (i's share, and minus it for each j), the wall pairs' pressure
@@ -779,8 +818,9 @@ KERNEL void eulerian_mass_energy_rate(
  * the upload wrote). */
 FN_HOT void
 eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k_end,
-                        const int walls_end, CONSTANT sph_params *prm, ONCE_ROWS_PARAMS,
-                        GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+                        const int walls_end, CONSTANT sph_params *prm, const fluid_solver solver,
+                        ONCE_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
+                        GLOBAL const real *restrict pair_dwv,
                         GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
                         GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
                         GLOBAL const real *restrict pressure,
@@ -790,7 +830,6 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     if (IS_WALL(i)) return;
     const int stride = ROWS_STRIDE;
     const real mu = prm->materials[0].viscosity;
-    const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
     const real w_i = vol[i];
@@ -798,20 +837,19 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] = lanes_zero();
     const int lanes_end = k_end;
     for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        lanes inv_r;
-        PAIR_LANES_STATES(&inv_r, vel, NO_WALL_PAIR);
+        ONCE_LANES_STATES(vel);
+        const lanes inv_r = lanes_load_row(pair_inv_r + slot0);
         const lanes vn = lanes_dot(s.v, e);
         /* -2 w_i dW w_j: F_i = -2 w_i sum_j [flux - mu (v_i - v_j) / r~] dW w_j */
-        const lanes weight = R(-2) * w_i * dwv * keep;
+        const lanes weight = R(-2) * w_i * dwv;
         lanes f[SPH_DIM];
         UNROLL for (int a = 0; a < SPH_DIM; ++a) {
             f[a] = weight *
                    (fluid_momentum_flux_lanes(s, vn, e, a) - mu * inv_r * (v_i.c[a] - q.v.c[a]));
             lane_force[a] += f[a];
         }
-        const int live = lanes_end - k0 < SPH_PAIR_LANES ? lanes_end - k0 : SPH_PAIR_LANES;
-        for (int l = 0; l < live; ++l) {
-            const int j = nbr_j[ROW_SLOT(i, k0 + l)];
+        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+            const int j = nbr_j[slot0 + l];
             UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + j] -= LANE(f[a], l);
         }
     }
@@ -860,10 +898,11 @@ FN void eulerian_momentum_stage(const int i, const int n, const real dt, CONSTAN
  * eulerian_momentum_stage zeroed. */
 FN_HOT void eulerian_mass_energy_pairs(
     const int i, const int n, const int k_begin, const int k_end, const int walls_end,
-    CONSTANT sph_params *prm, ONCE_ROWS_PARAMS, GLOBAL const real *restrict pair_e,
-    GLOBAL const real *restrict pair_dwv, GLOBAL const real *restrict pair_inv_r,
-    GLOBAL const hreal *restrict rho, GLOBAL const real *restrict vel_stage,
-    GLOBAL const real *restrict vol, GLOBAL const real *restrict pressure,
+    CONSTANT sph_params *prm, const fluid_solver solver, ONCE_ROWS_PARAMS,
+    GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+    GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+    GLOBAL const real *restrict vel_stage, GLOBAL const real *restrict vol,
+    GLOBAL const real *restrict pressure,
     GLOBAL real *restrict mass_rate ENERGY_RATE_PARAMS SOUND_PARAM KIND_PARAMS) {
     (void)walls_end;
     if (IS_WALL(i)) return;
@@ -871,7 +910,6 @@ FN_HOT void eulerian_mass_energy_pairs(
     (void)normal;
 #            endif
     const int stride = ROWS_STRIDE;
-    const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel_stage, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
     const real w_i = vol[i];
@@ -883,13 +921,14 @@ FN_HOT void eulerian_mass_energy_pairs(
 #            endif
     const int lanes_end = k_end;
     for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        MASS_PASS_INV_R_DECL;
-        PAIR_LANES_STATES(MASS_PASS_INV_R, vel_stage, NO_WALL_PAIR);
+        ONCE_LANES_STATES(vel_stage);
+#            if SPH_HAS_COMPRESSIBLE
+        const lanes inv_r = lanes_load_row(pair_inv_r + slot0);
+#            endif
         const lanes vn = lanes_dot(s.v, e);
-        const lanes weight = R(-2) * w_i * dwv * keep;
+        const lanes weight = R(-2) * w_i * dwv;
         const lanes mass_term = weight * (s.rho * vn);
         lane_mass += mass_term;
-        const int live = lanes_end - k0 < SPH_PAIR_LANES ? lanes_end - k0 : SPH_PAIR_LANES;
 #            if SPH_HAS_COMPRESSIBLE
         /* the energy flux and the pairwise viscous work (eulerian_mass_energy_rate) */
         lanes_vec dv, v_mean;
@@ -901,8 +940,8 @@ FN_HOT void eulerian_mass_energy_pairs(
 #            else
         const lanes energy_term = lanes_zero();
 #            endif
-        for (int l = 0; l < live; ++l) {
-            const int j = nbr_j[ROW_SLOT(i, k0 + l)];
+        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+            const int j = nbr_j[slot0 + l];
             mass_rate[j] -= LANE(mass_term, l);
 #            if SPH_HAS_COMPRESSIBLE
             energy_rate[j] -= LANE(energy_term, l);

@@ -41,8 +41,15 @@
 FN void reduce_identity(real *c, const int nmax, const int ncomp) {
     for (int k = 0; k < ncomp; ++k) c[k] = k < nmax ? REAL_LOWEST : R(0);
 }
+/* fmax(a, b) as a comparison: the same value, NaN included (a NaN a gives b,
+ * a NaN b gives a), without the library call fmax is in the native build
+ * (sph_riemann.h; 1 % of a cylinder run went to it, a call per particle per
+ * substep). */
+FN real reduce_max(const real a, const real b) {
+    return (b > a || a != a) ? b : a;
+}
 FN void reduce_combine(real *acc, const real *c, const int nmax, const int ncomp) {
-    for (int k = 0; k < ncomp; ++k) acc[k] = k < nmax ? fmax(acc[k], c[k]) : acc[k] + c[k];
+    for (int k = 0; k < ncomp; ++k) acc[k] = k < nmax ? reduce_max(acc[k], c[k]) : acc[k] + c[k];
 }
 
 /* Block g of SPH_WG particles: CONTRIB (which writes particle i's

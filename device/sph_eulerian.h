@@ -78,16 +78,19 @@ FN real ideal_gas_sound_speed(const real p, const real rho, const real gamma) {
  *   p* = pbar + Z (u_l - u_r) beta / 2,
  *   v* = vbar - e_ij (p_i - p_j) beta^2 / (2 Z)   (u* = ubar + (p_l - p_r) beta^2 / (2 Z)),
  *   rho* = rhobar. */
-/* Its constants, formed once per particle rather than per pair (no
- * division in the pair loop): Z / 2, 1 / (2 Z) and eta / c0 (0: unlimited). */
+/* Its constants, formed once per particle (per pass on the native
+ * backend) rather than per pair (no division in the pair loop): Z / 2,
+ * 1 / (2 Z), eta / c0 (0: unlimited) and beta_floor, 1 unlimited and else 0
+ * (the lanes' beta without a branch, below). */
 typedef struct {
-    real half_z, inv_two_z, eta_over_c0;
+    real half_z, inv_two_z, eta_over_c0, beta_floor;
 } linearised_solver;
 FN linearised_solver linearised_solver_make(const real rho0, const real c0, const real eta) {
     linearised_solver k;
     k.half_z = R(0.5) * rho0 * c0;
     k.inv_two_z = R(1) / (R(2) * rho0 * c0);
     k.eta_over_c0 = eta > R(0) ? eta / c0 : R(0);
+    k.beta_floor = eta > R(0) ? R(0) : R(1);
     return k;
 }
 FN fluid_state riemann_linearised(const fluid_side l, const fluid_side r, const vec e_ij,
@@ -131,10 +134,11 @@ FN lanes lanes_dot(const lanes_vec x, const lanes_vec y) {
 FN fluid_state_lanes riemann_linearised_lanes(const fluid_side_lanes l, const fluid_side_lanes r,
                                               const lanes_vec e_ij, const linearised_solver k) {
     const lanes du = l.u - r.u;
-    /* beta: eta/c0 > 0, so eta/c0 du > 0 exactly where du > 0 */
-    const lanes beta = k.eta_over_c0 > R(0)
-                           ? lanes_at_most_one(lanes_positive_part(k.eta_over_c0 * du))
-                           : lanes_broadcast(R(1));
+    /* beta without a branch: limited (eta/c0 > 0, so eta/c0 du > 0 exactly
+     * where du > 0), the positive part plus a floor of 0, which changes no
+     * bit of it; unlimited (eta/c0 = 0), 0 (max(0 du, 0), NaN included) plus
+     * a floor of 1, so 1 */
+    const lanes beta = lanes_at_most_one(lanes_positive_part(k.eta_over_c0 * du) + k.beta_floor);
     fluid_state_lanes s;
     s.rho = R(0.5) * (l.rho + r.rho);
     s.p = R(0.5) * (l.p + r.p) + k.half_z * du * beta;

@@ -194,13 +194,28 @@ static void fluid_setup_impl(cpu_buffers *b) {
  * ones (a block writes to itself and the next one only), each row with its
  * wall pairs, then the far pairs on one thread.  The blocks go to the
  * threads as they free up (schedule dynamic): one thread sums a block's
- * rows in order, so which thread it is changes no sum. */
+ * rows in order, so which thread it is changes no sum.
+ *
+ * Then PARTICLE(i), the pass's per-particle work that needs the pass's sums
+ * of i complete (v' after the momentum rates, the update after the mass
+ * rates), for every particle.  A block's sums are complete once its own rows
+ * and those of the block before it are summed, so without far pairs the
+ * blocks' threads do it as they go, on the data they just wrote: block 0
+ * after its rows (no block writes to it but itself), and odd block b after
+ * its rows for blocks b and b + 1 (block b + 1 was summed in the even round).
+ * The particle work of block b + 1 reads and writes only particles of that
+ * block, which no other block's rows read in this pass (a row reads its own
+ * block and the next).  Each particle gets the same operations on the same
+ * values as in a loop of its own after the pass, so the result is the same
+ * bit for bit and does not depend on the number of threads; the loop and a
+ * barrier per pass are saved.  With far pairs, a loop after them. */
 #    define ONCE_ROWS(b) (b)->once_start, (b)->once_j
 #    define ONCE_GEOMETRY(b)                                                                       \
         (const real *)(b)->once_e, (const real *)(b)->once_dwv, (const real *)(b)->once_inv_r
-#    define PAIRS_ONCE(b, T, ROW)                                                                  \
+#    define PAIRS_ONCE_THEN(b, T, ROW, PARTICLE)                                                   \
         do {                                                                                       \
             const int block_ = (b)->pair_block, nblocks_ = (n + block_ - 1) / block_;              \
+            const bool as_they_go_ = (b)->nfar_rows == 0;                                          \
             for (int parity_ = 0; parity_ < 2; ++parity_) {                                        \
                 _Pragma("omp for schedule(dynamic, 1) nowait") for (int q_ = 0;                    \
                                                                     q_ <                           \
@@ -213,16 +228,25 @@ static void fluid_setup_impl(cpu_buffers *b) {
                         const int walls_end = k_end + (b)->once_walls[i];                          \
                         ROW;                                                                       \
                     }                                                                              \
+                    if (as_they_go_ && (parity_ == 1 || first_ == 0)) {                            \
+                        int done_ = last_; /* block 0: itself; odd b: b and b + 1 */               \
+                        if (parity_ == 1) done_ = last_ + block_ < n ? last_ + block_ : n;         \
+                        for (int i = first_; i < done_; ++i) PARTICLE;                             \
+                    }                                                                              \
                 }                                                                                  \
                 cpu_team_sync(T);                                                                  \
             }                                                                                      \
-            _Pragma("omp single nowait") for (int r_ = 0; r_ < (b)->nfar_rows; ++r_) {             \
-                const int i = (b)->far_rows[r_];                                                   \
-                const int k_begin = (b)->once_count[i] + (b)->once_walls[i];                       \
-                const int k_end = k_begin + (b)->once_far[i], walls_end = k_end;                   \
-                ROW;                                                                               \
+            if (!as_they_go_) { /* the same for every thread: all or none sync */                  \
+                _Pragma("omp single nowait") for (int r_ = 0; r_ < (b)->nfar_rows; ++r_) {         \
+                    const int i = (b)->far_rows[r_];                                               \
+                    const int k_begin = (b)->once_count[i] + (b)->once_walls[i];                   \
+                    const int k_end = k_begin + (b)->once_far[i], walls_end = k_end;               \
+                    ROW;                                                                           \
+                }                                                                                  \
+                cpu_team_sync(T);                                                                  \
+                _Pragma("omp for schedule(static) nowait") for (int i = 0; i < n; ++i) PARTICLE;   \
+                cpu_team_sync(T);                                                                  \
             }                                                                                      \
-            cpu_team_sync(T);                                                                      \
         } while (0)
 
 /* One step of a fluid run (eulerian_step.cl) in one parallel region: the
@@ -262,36 +286,35 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
                 cpu_team_sync(t);
             }
         } else {
-            /* the two stages, each fluid pair summed once (eulerian_step.cl) */
-            PAIRS_ONCE(b, t,
-                       eulerian_momentum_pairs(
-                           i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
-                           F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL),
-                           F_REAL(b, FIELD_PRESSURE),
-                           (real *)b->force_sum ENERGY_FIELD_ARG SOUND_FIELD_ARG,
-                           F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE)));
-#    pragma omp for schedule(static) nowait
-            for (int i = 0; i < n; ++i)
+            /* the two stages, each fluid pair summed once (eulerian_step.cl);
+             * the solver's constants formed once per step, not per row (two
+             * divisions) */
+            const fluid_solver solver = fluid_solver_make(prm);
+            PAIRS_ONCE_THEN(
+                b, t,
+                eulerian_momentum_pairs(
+                    i, n, k_begin, k_end, walls_end, prm, solver, ONCE_ROWS(b), ONCE_GEOMETRY(b),
+                    F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VOL),
+                    F_REAL(b, FIELD_PRESSURE),
+                    (real *)b->force_sum ENERGY_FIELD_ARG SOUND_FIELD_ARG,
+                    F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE)),
                 eulerian_momentum_stage(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
                                         F_REAL(b, FIELD_VEL_STAGE), (real *)b->force_sum,
                                         F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS,
-                                        F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
-            cpu_team_sync(t);
-            PAIRS_ONCE(b, t,
-                       eulerian_mass_energy_pairs(
-                           i, n, k_begin, k_end, walls_end, prm, ONCE_ROWS(b), ONCE_GEOMETRY(b),
-                           F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL),
-                           F_REAL(b, FIELD_PRESSURE),
-                           F_REAL(b, FIELD_MASS_RATE)
-                               ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS));
-#    pragma omp for schedule(static) nowait
-            for (int i = 0; i < n; ++i)
+                                        F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS));
+            PAIRS_ONCE_THEN(
+                b, t,
+                eulerian_mass_energy_pairs(
+                    i, n, k_begin, k_end, walls_end, prm, solver, ONCE_ROWS(b), ONCE_GEOMETRY(b),
+                    F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL_STAGE), F_REAL(b, FIELD_VOL),
+                    F_REAL(b, FIELD_PRESSURE),
+                    F_REAL(b, FIELD_MASS_RATE)
+                        ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS),
                 eulerian_update(i, n, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_VEL_STAGE),
                                 F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
                                 F_REAL(b, FIELD_PRESSURE),
                                 F_REAL(b, FIELD_MASS_RATE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
-                                F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
-            cpu_team_sync(t);
+                                F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS));
         }
         far_field_pass(b, t);
 #    pragma omp for schedule(static) nowait
