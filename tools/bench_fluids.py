@@ -470,6 +470,13 @@ def row_end(r):
         (f" {r['error']}" if r.get("error") else "")
 
 
+# the figures' files, by the key plots() returns them under
+FIGURE_NAMES = {"shu-osher": "bench-fluids-shu-osher.png", "tgv": "bench-fluids-tgv.png",
+                "cylinder": "bench-fluids-cylinder.png",
+                "convergence": "bench-fluids-convergence.png",
+                "runtime": "error-vs-runtime-fluids.png"}
+
+
 def markdown(result, args, png_names):
     rows = result["rows"]
     env = result["environment"]
@@ -679,6 +686,13 @@ def markdown(result, args, png_names):
                            "[error-vs-runtime.png](error-vs-runtime.png))"}
     for key, name in png_names.items():
         out.append(f"- `{name}`: {captions[key]}.  ![{key}]({name})")
+    # a figure this invocation could not draw (its runs are not in --work) but an earlier one
+    # did stays listed, as what it is
+    for key, name in FIGURE_NAMES.items():
+        if key not in png_names and args.png_dir and \
+                os.path.exists(os.path.join(args.png_dir, name)):
+            out.append(f"- `{name}` (drawn by an earlier invocation, from the runs of the rows "
+                       f"above that name their commit): {captions[key]}.  ![{key}]({name})")
     out.append("")
     return "\n".join(out)
 
@@ -738,7 +752,7 @@ def plots(rows, png_dir, title):
         axes[0].legend(fontsize=7, ncol=2)
         fig.suptitle("\n".join(textwrap.wrap(title, 150)), fontsize=8)
         fig.tight_layout()
-        save(fig, "shu-osher", "bench-fluids-shu-osher.png")
+        save(fig, "shu-osher", FIGURE_NAMES["shu-osher"])
     tgv = [r for r in rows if r["suite"] == "tgv" and r.get("_ke")]
     if tgv:
         forms = [f for f in TGV_SCENES if any(r["formulation"] == f for r in tgv)]
@@ -768,7 +782,7 @@ def plots(rows, png_dir, title):
             ax.legend(fontsize=7)
         fig.suptitle("\n".join(textwrap.wrap(title, 150)), fontsize=8)
         fig.tight_layout()
-        save(fig, "tgv", "bench-fluids-tgv.png")
+        save(fig, "tgv", FIGURE_NAMES["tgv"])
 
     cyl = [r for r in rows if r["suite"] == "cylinder" and r.get("_forces")]
     if cyl:
@@ -804,7 +818,7 @@ def plots(rows, png_dir, title):
         axes[0].set_title("Flow around a cylinder, Re = 100 (004 §4.3): forces on the cylinder")
         fig.suptitle("\n".join(textwrap.wrap(title, 150)), fontsize=8)
         fig.tight_layout()
-        save(fig, "cylinder", "bench-fluids-cylinder.png")
+        save(fig, "cylinder", FIGURE_NAMES["cylinder"])
 
     # error against dp, and against wall time
     def series(suite, key):
@@ -827,8 +841,8 @@ def plots(rows, png_dir, title):
     panels = [p for p in panels if series(p[0], p[1])]
     if not panels:
         return written
-    for xkey, name, key_name in (("dp", "bench-fluids-convergence.png", "convergence"),
-                                 ("wall_time_s", "error-vs-runtime-fluids.png", "runtime")):
+    for xkey, name, key_name in (("dp", FIGURE_NAMES["convergence"], "convergence"),
+                                 ("wall_time_s", FIGURE_NAMES["runtime"], "runtime")):
         fig, axes = plt.subplots(1, len(panels), figsize=(5.8 * len(panels), 5.2), squeeze=False)
         for ax, (suite, key, heading) in zip(axes[0], panels):
             for (label, kernel, form, eta, layout, integ), pts in sorted(
