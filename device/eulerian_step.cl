@@ -789,16 +789,17 @@ KERNEL void eulerian_mass_energy_rate(
 
 /* A once row's lanes are always whole (build_once_rows pads each part to
  * whole lanes with empty pairs: j = i, zero geometry, whose terms are
- * zeros), so its lanes load their geometry as whole vectors and gather
+ * zeros), so its lanes load their geometry as whole vectors
+ * (pair_lanes_geometry with a whole lane's worth left) and gather
  * and scatter every lane without asking which are live: the same
  * operations on the same values as PAIR_LANES_STATES (whose keep is 1 on
  * every lane of a once row), without a branch per lane. */
-#            define ONCE_LANES_STATES(vel_)                                                        \
+#            define ONCE_LANES_STATES(inv_r_ptr_, vel_)                                            \
                 const int slot0 = ROW_SLOT(i, k0);                                                 \
                 lanes_vec e;                                                                       \
-                UNROLL for (int a = 0; a < SPH_DIM; ++a) e.c[a] =                                  \
-                    lanes_load_row(pair_e + a * stride + slot0);                                   \
-                const lanes dwv = lanes_load_row(pair_dwv + slot0);                                \
+                lanes dwv;                                                                         \
+                pair_lanes_geometry(pair_e, pair_dwv, pair_inv_r, stride, slot0, SPH_PAIR_LANES,   \
+                                    &e, &dwv, (inv_r_ptr_));                                       \
                 fluid_point_gather gq;                                                             \
                 UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {                            \
                     const int j = nbr_j[slot0 + l];                                                \
@@ -837,8 +838,8 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] = lanes_zero();
     const int lanes_end = k_end;
     for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        ONCE_LANES_STATES(vel);
-        const lanes inv_r = lanes_load_row(pair_inv_r + slot0);
+        lanes inv_r;
+        ONCE_LANES_STATES(&inv_r, vel);
         const lanes vn = lanes_dot(s.v, e);
         /* -2 w_i dW w_j: F_i = -2 w_i sum_j [flux - mu (v_i - v_j) / r~] dW w_j */
         const lanes weight = R(-2) * w_i * dwv;
@@ -921,10 +922,8 @@ FN_HOT void eulerian_mass_energy_pairs(
 #            endif
     const int lanes_end = k_end;
     for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
-        ONCE_LANES_STATES(vel_stage);
-#            if SPH_HAS_COMPRESSIBLE
-        const lanes inv_r = lanes_load_row(pair_inv_r + slot0);
-#            endif
+        MASS_PASS_INV_R_DECL;
+        ONCE_LANES_STATES(MASS_PASS_INV_R, vel_stage);
         const lanes vn = lanes_dot(s.v, e);
         const lanes weight = R(-2) * w_i * dwv;
         const lanes mass_term = weight * (s.rho * vn);

@@ -78,7 +78,7 @@ FN void combine_rows(const int ngroups, const int nmax, const int ncomp,
         real acc = k < nmax ? REAL_LOWEST : R(0);
         for (int g = 0; g < ngroups; ++g) {
             const real x = partials[g * ncomp + k];
-            acc = k < nmax ? fmax(acc, x) : acc + x;
+            acc = k < nmax ? reduce_max(acc, x) : acc + x;
         }
         result[k] = acc;
     }
@@ -401,7 +401,7 @@ FN void finalize_rows(__local real *scratch, const int ngroups, const int nmax, 
         real acc = k < nmax ? REAL_LOWEST : R(0);
         for (int g = lid; g < ngroups; g += SPH_WG) {
             const real x = partials[g * ncomp + k];
-            acc = k < nmax ? fmax(acc, x) : acc + x;
+            acc = k < nmax ? reduce_max(acc, x) : acc + x;
         }
         group_tree(scratch, acc, k < nmax);
         if (lid == 0) result[k] = scratch[0];
