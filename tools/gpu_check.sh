@@ -3,13 +3,14 @@
 # build-gpu): the device and its bandwidth, every OpenCL test body on it, then the benchmarks
 # (docs/gpu.md; what the 2026-11-23 H100 session ran in three calls), each stage skipped when
 # the time budget is spent.  Logs and JSON go to OUTDIR (default $OUT, else /tmp/gpu-check).
-#   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests loop bench3d bench evr3d]
-# (evr3d, the 3D plate's error-against-run-time ladder at H/dp = 3, 5, 9, is not in the default)
+#   tools/gpu_check.sh [budget-seconds, default 560] [stages: env tests fluids loop bench3d bench evr3d]
+# (evr3d, the 3D plate's error-against-run-time ladder at H/dp = 3, 5, 9, is not in the default;
+# fluids: the fluid test bodies on the GPU and the cylinder's GPU target, docs/fluids.md)
 set -u
 cd "$(dirname "$0")/.." || exit 1
 budget=${1:-560}
 shift || true
-stages=${*:-env tests loop bench3d bench}
+stages=${*:-env tests fluids loop bench3d bench}
 out=${OUT:-/tmp/gpu-check}
 mkdir -p "$out"
 start=$(date +%s)
@@ -42,6 +43,46 @@ if want tests; then
     timeout 120 $py "tests/$t.py" opencl >"$out/$t.log" 2>&1
     echo "$t: exit $?; $(tail -1 "$out/$t.log")"
   done
+fi
+if want fluids; then
+  # The fluid formulations on the GPU: their OpenCL test bodies, then the cylinder of seed 004
+  # §4.3 (cases/cylinder_flow_2d): dp = 1/10 to t = 300 whole (the 2-core machine's speed
+  # case, with its C_D, lift amplitude and St beside the native backend's) and the GPU target,
+  # dp = 1/30 (1.35 M particles) to t = 300 in <= 10 minutes, run to t = CYL30_END (default 30)
+  # and its time to t = 300 extrapolated in proportion to simulated time (printed as such).
+  echo "== fluids ($(left) s left)"
+  for t in test_fluids test_cylinder test_step_clock; do
+    [ "$(left)" -gt 60 ] || { echo "$t opencl: skipped ($(left) s left)"; continue; }
+    s=$(date +%s)
+    timeout 240 $py "tests/$t.py" opencl >"$out/$t-opencl.log" 2>&1
+    echo "$t opencl: exit $?, $(($(date +%s) - s)) s; $(tail -1 "$out/$t-opencl.log")"
+  done
+  for run in "0.1|300" "0.0333333333333333|${CYL30_END:-30}"; do
+    IFS='|' read -r dp end <<<"$run"
+    [ "$(left)" -gt 90 ] || { echo "cylinder dp=$dp t=$end: skipped ($(left) s left)"; continue; }
+    rm -rf "$out/cylinder-run"
+    timeout $(($(left) - 30)) "$bin/sphsolid" run cases/cylinder_flow_2d/scene.cfg \
+      --backend opencl --quiet --out "$out/cylinder-run" --set "resolution.dp=$dp" \
+      --set "time.end=$end" --set output.snapshot_interval=1000 >"$out/cylinder-run.log" 2>&1
+    rc=$?
+    echo "cylinder dp=$dp t=$end: exit $rc; $($py -c "
+import json, sys
+s = json.load(open(sys.argv[1]))
+m, t, wall = s['metrics'], s['simulated_time'], s['wall_time_s']
+line = '%d particles, %d steps, %.1f s (setup %.1f s), %.3g particle-steps/s on %s' % (
+    s['particle_count'], s['acoustic_steps'], wall, s['setup_time_s'],
+    s['particle_substeps_per_second'], s['device'])
+if t >= 300:
+    line += '; C_D %.4f, C_L amplitude %.4f, St %.4f over t >= %g' % (
+        m['mean_drag_coefficient'], m['lift_amplitude'], m['strouhal_number'],
+        m['force_window_start'])
+else:
+    line += '; to t = 300 extrapolated: %.0f s' % (s['setup_time_s'] +
+        (wall - s['setup_time_s']) * 300.0 / t)
+print(line)" "$out/cylinder-run/summary.json" 2>&1 | tail -1)"
+    cp "$out/cylinder-run/summary.json" "$out/cylinder-dp$dp-t$end-summary.json" 2>/dev/null
+  done
+  rm -rf "$out/cylinder-run"
 fi
 if want loop; then
   # the substep loop (device/substep_loop.cl): bit for bit the per-pass runs on the GPU (its
