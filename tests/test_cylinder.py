@@ -117,6 +117,17 @@ try:
                       f"the script's C_D of sphsolid {ours[0]} is the timeseries' {drag80}")
                 check(abs(float(public[2]) / float(ours[2]) - 1.0) <= 0.05,
                       f"the public code's viscous sum {public[2]} within 5 % of ours {ours[2]}")
+            # plot_forces.py draws the run and names it by its summary: dp = 1/4 and the
+            # window's mean C_D, lift amplitude and St, as summary.json has them
+            png = os.path.join(tmp, "forces.png")
+            p = subprocess.run([sys.executable, os.path.join(os.path.dirname(SMALL),
+                                                             "plot_forces.py"), out,
+                                "--out", png], capture_output=True, text=True, timeout=300)
+            named = "dp = 1/4, two-stage: C_D %.3f, C_L ±%.3f, St %.4f" % (
+                m["mean_drag_coefficient"], m["lift_amplitude"], m["strouhal_number"])
+            check(p.returncode == 0 and named in p.stdout and os.path.exists(png)
+                  and os.path.getsize(png) > 10000,
+                  f"plot_forces.py: exit {p.returncode}, {p.stdout}{p.stderr} (expected {named})")
 
     # under the sanitizers: the wall, far-field and force code on a short run
     if BACKEND == "cpu" and SANITIZED:
