@@ -286,7 +286,21 @@ try:
     check(code == 0 and "mean C_D = 1.33 from t = 50, C_L amplitude = 0.34, St = 0.169" in line,
           f"fluid run: the force coefficients reported: exit {code} {line!r} {err!r}")
     check("displacement" not in line, f"fluid run: no force column taken for an observer: {line!r}")
+    check("clipped" not in line, f"fluid run: nothing to clip: {line!r}")
     check_png(os.path.join(run_f, "plots", "timeseries.png"), "fluid run")
+    # the same run with a start-up transient (C_D 16 at t = 0.5, as the cylinder started from
+    # rest has): the panel spans the run after its first tenth and says what it clips
+    with open(os.path.join(run_f, "timeseries.csv")) as f:
+        lines = f.read().splitlines()
+    spike = lines[2].split(",")
+    spike[6] = "16.0"
+    lines[2] = ",".join(spike)
+    with open(os.path.join(run_f, "timeseries.csv"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    code, out, err = run_script([run_f, "--snapshots", "0"])
+    line = png_lines(out).get(os.path.join(run_f, "plots", "timeseries.png"), "")
+    check(code == 0 and "the start before t = 10 clipped (coefficients -0.34 to 16)" in line,
+          f"fluid run with a start-up transient: the clip reported: exit {code} {line!r} {err!r}")
 
     # a 1D run (a line of particles): the field against x, its range reported
     run_1 = os.path.join(tmp, "run-line")
