@@ -380,7 +380,7 @@ FN_HOT void pair_lanes_geometry(GLOBAL const real *restrict pair_e,
         GATHER_FLUID_LANES(gq, vel_, WALL_PAIR);                                                   \
         lanes keep;                                                                                \
         const fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep);                            \
-        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e)
+        const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q_i_lanes, q, e)
 /* The mass and energy passes' viscous weight: only the compressible
  * formulation's viscous work reads it. */
 #    if SPH_HAS_COMPRESSIBLE
@@ -391,12 +391,29 @@ FN_HOT void pair_lanes_geometry(GLOBAL const real *restrict pair_e,
 #        define MASS_PASS_INV_R      ((lanes *)0)
 #    endif
 
+/* Particle i's side broadcast to every lane, once per row: formed inside
+ * the lane loop the broadcasts were built again for every lane of four
+ * (two shuffles each, the compiler did not hoist them). */
+typedef struct {
+    lanes rho, p;
+    lanes_vec v;
+} fluid_point_broadcast;
+FN fluid_point_broadcast fluid_point_broadcast_make(const fluid_point a) {
+    fluid_point_broadcast b;
+    b.rho = lanes_broadcast(a.rho);
+    b.p = lanes_broadcast(a.p);
+    UNROLL for (int c = 0; c < SPH_DIM; ++c) b.v.c[c] = lanes_broadcast(a.v.c[c]);
+    return b;
+}
+
 /* The interface states of lanes of pairs (i, j): the linearised solver on
  * the lanes, HLLC (its branches) lane by lane. */
 FN_HOT fluid_state_lanes pair_interface_lanes(const fluid_solver solver, const fluid_point a,
+                                              const fluid_point_broadcast a_lanes,
                                               const fluid_point_lanes b, const lanes_vec e_ij) {
     fluid_state_lanes s;
 #    if SPH_HAS_COMPRESSIBLE
+    (void)a_lanes;
     real rho_s[SPH_PAIR_LANES], p_s[SPH_PAIR_LANES], energy_s[SPH_PAIR_LANES],
         v_s[SPH_DIM][SPH_PAIR_LANES];
     UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
@@ -420,13 +437,14 @@ FN_HOT fluid_state_lanes pair_interface_lanes(const fluid_solver solver, const f
     UNROLL for (int c = 0; c < SPH_DIM; ++c) s.v.c[c] = LANES_FROM(v_s[c]);
 #    else
     /* fluid_side_make on lanes: the same operations */
+    (void)a;
     fluid_side_lanes l, r;
-    l.rho = lanes_broadcast(a.rho);
-    l.p = lanes_broadcast(a.p);
+    l.rho = a_lanes.rho;
+    l.p = a_lanes.p;
     r.rho = b.rho;
     r.p = b.p;
     r.v = b.v;
-    UNROLL for (int c = 0; c < SPH_DIM; ++c) l.v.c[c] = lanes_broadcast(a.v.c[c]);
+    l.v = a_lanes.v;
     l.u = -lanes_dot(e_ij, l.v);
     r.u = -lanes_dot(e_ij, r.v);
     s = riemann_linearised_lanes(l, r, e_ij, solver);
@@ -653,6 +671,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
+    const fluid_point_broadcast q_i_lanes = fluid_point_broadcast_make(q_i);
     /* the fluid pairs' sums in lanes (sph_prelude.h) */
     lanes lane_flux[SPH_DIM], lane_visc[SPH_DIM];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_flux[a] = lane_visc[a] = lanes_zero();
@@ -708,6 +727,7 @@ KERNEL void eulerian_mass_energy_rate(
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel_stage, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
+    const fluid_point_broadcast q_i_lanes = fluid_point_broadcast_make(q_i);
     /* the fluid pairs' sums in lanes (sph_prelude.h) */
     mass_energy_lanes acc = mass_energy_lanes_zero();
 #        if !SPH_HAS_COMPRESSIBLE
@@ -809,7 +829,7 @@ KERNEL void eulerian_mass_energy_rate(
                 fluid_point_lanes q = fluid_point_lanes_from(&gq, &keep_unused);                   \
                 (void)keep_unused;                                                                 \
                 ONCE_PRESSURE(q);                                                                  \
-                const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q, e)
+                const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q_i_lanes, q, e)
 
 /* Stage 1 on row i's fluid pairs k_begin <= k < k_end, then its wall pairs
  * k_end <= k < walls_end (none for the far pairs): the momentum rate F into
@@ -833,6 +853,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     const real mu = prm->materials[0].viscosity;
     const vec v_i = vec_load(vel, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
+    const fluid_point_broadcast q_i_lanes = fluid_point_broadcast_make(q_i);
     const real w_i = vol[i];
     lanes lane_force[SPH_DIM];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] = lanes_zero();
@@ -913,6 +934,7 @@ FN_HOT void eulerian_mass_energy_pairs(
     const int stride = ROWS_STRIDE;
     const vec v_i = vec_load(vel_stage, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
+    const fluid_point_broadcast q_i_lanes = fluid_point_broadcast_make(q_i);
     const real w_i = vol[i];
     lanes lane_mass = lanes_zero(), lane_energy = lanes_zero();
 #            if SPH_HAS_COMPRESSIBLE
@@ -1067,6 +1089,7 @@ KERNEL void eulerian_rates(ITEM_PARAM const int n, const int stage, STEP_DT_PARA
     const fluid_solver solver = fluid_solver_make(prm);
     const vec v_i = vec_load(vel, n, i);
     const fluid_point q_i = FLUID_POINT(i, v_i);
+    const fluid_point_broadcast q_i_lanes = fluid_point_broadcast_make(q_i);
     /* the fluid pairs' sums in lanes, as the two-stage passes' */
     lanes lane_flux[SPH_DIM], lane_visc[SPH_DIM];
     UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_flux[a] = lane_visc[a] = lanes_zero();
