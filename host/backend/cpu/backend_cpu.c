@@ -87,12 +87,15 @@ static void free_pair_rows(cpu_buffers *b) {
         free(*rows[k]);
         *rows[k] = NULL;
     }
-    void **geometry[] = {&b->once_e, &b->once_dwv, &b->once_inv_r, &b->force_sum};
+    void **geometry[] = {&b->once_e, &b->once_dwv, &b->once_inv_r, &b->force_sum,
+                         &b->far_field_weight};
     for (size_t k = 0; k < sizeof geometry / sizeof geometry[0]; ++k) {
         free(*geometry[k]);
         *geometry[k] = NULL;
     }
-    b->nfar_rows = 0;
+    free(b->far_field);
+    b->far_field = NULL;
+    b->nfar_rows = b->nfar_field = 0;
 }
 
 static sph_status alloc_pairs(sph_backend *be, cpu_impl *c, int cap, sph_error *err) {
@@ -351,12 +354,20 @@ static int pairs_once_block(const sph_backend *be, const cpu_impl *c, const uint
     return block;
 }
 
+/* Whether the steps' rates leave particle i's state alone (HOLDS_STATE,
+ * eulerian_step.cl: a wall, far-field or fixed-state particle). */
+static bool holds_state(const uint8_t *kind, const uint8_t *fixed, int32_t i) {
+    return (kind && kind[i] != SPH_PARTICLE_FLUID) || (fixed && fixed[i]);
+}
+
 /* The part of row i's slot k in the rows of pairs summed once: 0 a fluid
  * pair with j > i in this block or the next, 1 one with j past them (far),
- * 2 a wall pair, -1 none (j < i, or i a wall particle: the fluid side sums
- * a wall pair). */
-static int once_part(const uint8_t *kind, int32_t i, int32_t j, int block) {
+ * 2 a wall pair, -1 none (j < i; i a wall particle: the fluid side sums
+ * a wall pair; i and j both holding their state, whose rates no step uses:
+ * the far field's pairs among themselves, 2 % of the cylinder's). */
+static int once_part(const uint8_t *kind, const uint8_t *fixed, int32_t i, int32_t j, int block) {
     if (kind && kind[i] == SPH_PARTICLE_WALL) return -1;
+    if (holds_state(kind, fixed, i) && holds_state(kind, fixed, j)) return -1;
     if (kind && kind[j] == SPH_PARTICLE_WALL) return 2;
     if (j < i) return -1;
     return j / block <= i / block + 1 ? 0 : 1;
@@ -369,7 +380,7 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
     const size_t n = (size_t)be->n, dim = (size_t)be->features.dim, esize = c->real_size;
     const size_t total = (size_t)c->b.row_start[n];
     const int lanes = c->k->pair_lanes;
-    const uint8_t *kind = c->b.field[FIELD_KIND];
+    const uint8_t *kind = c->b.field[FIELD_KIND], *fixed = c->b.field[FIELD_FIXED];
     const int block = pairs_once_block(be, c, kind);
     cpu_buffers *b = &c->b;
     b->pair_block = block;
@@ -384,7 +395,7 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
     for (size_t i = 0; i < n; ++i) {
         int parts[3] = {0, 0, 0};
         for (int32_t s = b->row_start[i]; s < b->row_start[i + 1]; ++s) {
-            const int part = once_part(kind, (int32_t)i, b->row_j[s], block);
+            const int part = once_part(kind, fixed, (int32_t)i, b->row_j[s], block);
             if (part >= 0) ++parts[part];
         }
         b->once_start[i] = (int32_t)slots;
@@ -416,7 +427,7 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
         size_t next[3] = {first, first + (size_t)(b->once_count[i] + b->once_walls[i]),
                           first + (size_t)b->once_count[i]};
         for (int32_t s = b->row_start[i]; s < b->row_start[i + 1]; ++s) {
-            const int part = once_part(kind, (int32_t)i, b->row_j[s], block);
+            const int part = once_part(kind, fixed, (int32_t)i, b->row_j[s], block);
             if (part < 0) continue;
             const size_t to = next[part]++;
             b->once_j[to] = b->row_j[s];
@@ -495,12 +506,33 @@ static sph_status cpu_rebuild_grow(sph_backend *be, int cap, sph_error *err) {
     return alloc_pairs(be, be->impl, cap, err);
 }
 
+/* The far field's particles, for fluid_setup to weigh and the steps to
+ * blend (cpu_buffers.far_field); none without a far field. */
+static sph_status list_far_field(sph_backend *be, cpu_impl *c, sph_error *err) {
+    cpu_buffers *b = &c->b;
+    const uint8_t *kind = b->field[FIELD_KIND];
+    if (!kind || ((const sph_params_f64 *)b->prm)->far_field_density <= 0) return SPH_OK;
+    const int n = be->n;
+    int count = 0;
+    for (int i = 0; i < n; ++i)
+        count += kind[i] == SPH_PARTICLE_INFLOW || kind[i] == SPH_PARTICLE_OUTFLOW;
+    b->far_field = malloc((count ? (size_t)count : 1) * sizeof(int32_t));
+    b->far_field_weight = malloc((count ? (size_t)count : 1) * c->real_size);
+    if (!b->far_field || !b->far_field_weight)
+        return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+    for (int i = 0; i < n; ++i)
+        if (kind[i] == SPH_PARTICLE_INFLOW || kind[i] == SPH_PARTICLE_OUTFLOW)
+            b->far_field[b->nfar_field++] = i;
+    sph_backend_record_buffer(be, "far field", (size_t)count * (sizeof(int32_t) + c->real_size));
+    return SPH_OK;
+}
+
 static sph_status cpu_rebuild_finish(sph_backend *be, sph_error *err) {
     cpu_impl *c = be->impl;
     if (!c->k->fluid_setup) return SPH_OK;
     const double t0 = phase_start(be);
     sph_status st = pack_pair_rows(be, c, err);
-    if (st) return st;
+    if (st || (st = list_far_field(be, c, err))) return st;
     c->k->fluid_setup(&c->b);
     /* the two stages (SSP-RK has a momentum-rate field) */
     if (!c->b.field[FIELD_MOMENTUM_RATE] && (st = build_once_rows(be, c, err))) return st;

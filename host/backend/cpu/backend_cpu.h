@@ -38,6 +38,12 @@ typedef struct {
     int32_t *once_start, *once_count, *once_walls, *once_far, *once_j, *far_rows;
     void *once_e, *once_dwv, *once_inv_r, *force_sum;
     int nfar_rows, pair_block;
+    /* the far field's particles (kind inflow or outflow) and their frozen
+     * weights S (eulerian_step.cl, far_field_weight), nfar_field of each;
+     * NULL without a far field */
+    int32_t *far_field;
+    void *far_field_weight;
+    int nfar_field;
     void *pair_w; /* TLSPH only: reference hourglass weights (else NULL) */
     uint64_t *keys;
     int32_t *cell_start, *cell_end;

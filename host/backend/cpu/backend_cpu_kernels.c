@@ -152,16 +152,18 @@ static void tl_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
 #    define KIND_FIELD_ARGS , F_U8(b, FIELD_KIND), F_REAL(b, FIELD_NORMAL)
 
 /* The far field's pass (eulerian_step.cl), as an orphaned loop of the
- * caller's parallel region, team t; nothing without far-field particles. */
+ * caller's parallel region, team t, over the far-field particles with their
+ * frozen weights; nothing without them. */
 static void far_field_pass(cpu_buffers *b, cpu_team *t) {
-    if (!b->field[FIELD_KIND] || ((const sph_params *)b->prm)->far_field_density <= 0) return;
+    if (!b->nfar_field) return;
     const int n = b->n;
     CONSTANT sph_params *prm = (const sph_params *)b->prm;
+    const real *weight = (const real *)b->far_field_weight;
 #    pragma omp for schedule(static) nowait
-    for (int i = 0; i < n; ++i)
-        eulerian_far_field(i, n, prm, FLUID_ROWS(b), F_HREAL(b, FIELD_POS), F_HREAL(b, FIELD_RHO),
-                           F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                           F_REAL(b, FIELD_PRESSURE) KIND_FIELD_ARGS);
+    for (int r = 0; r < b->nfar_field; ++r)
+        far_field_blend(b->far_field[r], n, prm, FLUID_ROWS(b), weight[r], F_HREAL(b, FIELD_RHO),
+                        F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
+                        F_REAL(b, FIELD_PRESSURE) KIND_FIELD_ARGS);
     cpu_team_sync(t);
 }
 
@@ -184,6 +186,13 @@ static void fluid_setup_impl(cpu_buffers *b) {
             eulerian_correct_pairs(i, n, prm, FLUID_ROWS(b), F_REAL(b, FIELD_BMAT),
                                    (real *)b->pair_e, (real *)b->pair_dwv,
                                    (real *)b->pair_inv_r KIND_FIELD_ARGS);
+        /* the far field's weights, once: its geometry is frozen */
+        real *weight = (real *)b->far_field_weight;
+#    pragma omp for schedule(static)
+        for (int r = 0; r < b->nfar_field; ++r)
+            weight[r] =
+                far_field_weight(b->far_field[r], n, prm, FLUID_ROWS(b), F_HREAL(b, FIELD_POS),
+                                 F_REAL(b, FIELD_VOL) KIND_FIELD_ARGS);
         far_field_pass(b, &t);
     }
 }
