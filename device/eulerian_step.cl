@@ -1216,9 +1216,9 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, const in
  * and writes far-field ones only: race-free. */
 /* S_i = sum_j W_ij w_j over far-field particle i's interior fluid
  * neighbours j: positions, volumes and kinds are frozen, so the native
- * backend forms it once (fluid setup) and blends with it every step, where
- * the kernel's exp per pair and step was 4 % of the cylinder's run; OpenCL
- * forms it in the step (eulerian_far_field). */
+ * backend forms it once (fluid setup) and blends with it every step (the
+ * pass with a kernel, an exp, per pair and step was 2-4 % of the cylinder's
+ * run); OpenCL forms it in the step (eulerian_far_field). */
 FN real far_field_weight(const int i, const int n, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
                          GLOBAL const hreal *restrict pos,
                          GLOBAL const real *restrict vol KIND_PARAMS) {
