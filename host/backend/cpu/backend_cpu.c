@@ -506,6 +506,11 @@ static sph_status cpu_rebuild_grow(sph_backend *be, int cap, sph_error *err) {
     return alloc_pairs(be, be->impl, cap, err);
 }
 
+/* A far-field particle (IS_FAR_FIELD, eulerian_step.cl). */
+static bool is_far_field(const uint8_t *kind, int i) {
+    return kind[i] == SPH_PARTICLE_INFLOW || kind[i] == SPH_PARTICLE_OUTFLOW;
+}
+
 /* The far field's particles, for fluid_setup to weigh and the steps to
  * blend (cpu_buffers.far_field); none without a far field. */
 static sph_status list_far_field(sph_backend *be, cpu_impl *c, sph_error *err) {
@@ -514,15 +519,13 @@ static sph_status list_far_field(sph_backend *be, cpu_impl *c, sph_error *err) {
     if (!kind || ((const sph_params_f64 *)b->prm)->far_field_density <= 0) return SPH_OK;
     const int n = be->n;
     int count = 0;
-    for (int i = 0; i < n; ++i)
-        count += kind[i] == SPH_PARTICLE_INFLOW || kind[i] == SPH_PARTICLE_OUTFLOW;
+    for (int i = 0; i < n; ++i) count += is_far_field(kind, i);
     b->far_field = malloc((count ? (size_t)count : 1) * sizeof(int32_t));
     b->far_field_weight = malloc((count ? (size_t)count : 1) * c->real_size);
     if (!b->far_field || !b->far_field_weight)
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     for (int i = 0; i < n; ++i)
-        if (kind[i] == SPH_PARTICLE_INFLOW || kind[i] == SPH_PARTICLE_OUTFLOW)
-            b->far_field[b->nfar_field++] = i;
+        if (is_far_field(kind, i)) b->far_field[b->nfar_field++] = i;
     sph_backend_record_buffer(be, "far field", (size_t)count * (sizeof(int32_t) + c->real_size));
     return SPH_OK;
 }
