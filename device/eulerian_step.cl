@@ -768,9 +768,11 @@ KERNEL void eulerian_mass_energy_rate(
  * same from both sides (the solvers are symmetric under swapping the sides
  * and reversing e_ij), and every term of eq. 14 and eq. 13 is antisymmetric
  * with the symmetric weight w_i w_j dW: the pair's share of particle j's
- * rate is minus its share of particle i's.  So here the row of i holds its
- * fluid pairs with j > i, padded with empty pairs (j = i, zero geometry)
- * to whole lanes, then its wall pairs, then its far pairs (below;
+ * rate is minus its share of particle i's.  So here each fluid pair is in
+ * one row only: the row of i holds its fluid pairs with j > i, except
+ * those of its block that fill another row's lanes (balance_once_rows),
+ * and those handed to it with j < i; padded with empty pairs (j = i, zero
+ * geometry) to whole lanes, then its wall pairs, then its far pairs (below;
  * host/backend/cpu/backend_cpu.c, build_once_rows); each is solved once, its terms are
  * added to i's sums in lanes and subtracted from j's sums one by one.
  *

@@ -29,8 +29,10 @@ typedef struct {
     int32_t *row_start, *row_j, *row_walls;
     /* ... and, for the two-stage passes, each fluid pair once
      * (eulerian_step.cl, "sum each fluid pair once"; build_once_rows): row i
-     * from once_start[i] holds once_count[i] pairs with j > i (padded with
-     * empty pairs, j = i, to whole lanes), once_walls[i] wall pairs, then
+     * from once_start[i] holds once_count[i] fluid pairs, each in one row
+     * only (j > i, or j < i in i's block where balance_once_rows handed it
+     * to i; padded with empty pairs, j = i, to whole lanes), once_walls[i]
+     * wall pairs, then
      * once_far[i] far pairs, in once_j and once_e, once_dwv, once_inv_r;
      * far_rows lists the nfar_rows rows with far pairs; pair_block is the
      * block length; force_sum the momentum rates (dim x n).  NULL before,
