@@ -985,6 +985,7 @@ FN_HOT void eulerian_mass_energy_pairs(
     (void)energy_sum;
 #            endif
 }
+
 #        endif /* !SPH_OPENCL */
 
 /* Stage 3, per particle: the conserved variables and the pressure.  The
@@ -1203,6 +1204,113 @@ KERNEL void eulerian_rk_update(ITEM_PARAM const int n, const int stage, const in
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
 #        endif
 }
+#        if !SPH_OPENCL
+/* SSP-RK's rates (eulerian_rates) from row i's once pairs, as the two
+ * stages' passes sum them but of one state: each fluid pair's momentum
+ * term (eulerian_momentum_pairs), mass and energy terms
+ * (eulerian_mass_energy_pairs) added to i's sums and subtracted from j's;
+ * the wall pairs as eulerian_rates' with the stage's weights of the wall
+ * force (skipped, as the two stages skip them, where i holds its state).
+ * The sums start from the zeros eulerian_rates_zero left. */
+FN_HOT void
+eulerian_rates_pairs(const int i, const int n, const int k_begin, const int k_end,
+                     const int walls_end, const int stage, CONSTANT sph_params *prm,
+                     const fluid_solver solver, ONCE_ROWS_PARAMS,
+                     GLOBAL const real *restrict pair_e, GLOBAL const real *restrict pair_dwv,
+                     GLOBAL const real *restrict pair_inv_r, GLOBAL const hreal *restrict rho,
+                     GLOBAL const real *restrict vel, GLOBAL const real *restrict vol,
+                     GLOBAL const real *restrict pressure, GLOBAL real *restrict mass_rate,
+                     GLOBAL real *restrict momentum_rate ENERGY_RATE_PARAMS SOUND_PARAM FIXED_PARAM
+                         KIND_PARAMS WALL_FORCE_PARAM) {
+    if (IS_WALL(i)) return;
+    const int stride = ROWS_STRIDE;
+    const real mu = prm->materials[0].viscosity;
+    const vec v_i = vec_load(vel, n, i);
+    const fluid_point q_i = FLUID_POINT(i, v_i);
+    const fluid_point_broadcast q_i_lanes = fluid_point_broadcast_make(q_i);
+    const real w_i = vol[i];
+    lanes lane_force[SPH_DIM];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] = lanes_zero();
+    lanes lane_mass = lanes_zero(), lane_energy = lanes_zero();
+    const int lanes_end = k_end;
+    for (int k0 = k_begin; k0 < lanes_end; k0 += SPH_PAIR_LANES) {
+        lanes inv_r;
+        ONCE_LANES_STATES(&inv_r, vel);
+        const lanes vn = lanes_dot(s.v, e);
+        const lanes weight = R(-2) * w_i * dwv;
+        lanes f[SPH_DIM];
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            f[a] = weight *
+                   (fluid_momentum_flux_lanes(s, vn, e, a) - mu * inv_r * (v_i.c[a] - q.v.c[a]));
+            lane_force[a] += f[a];
+        }
+        const lanes mass_term = weight * (s.rho * vn);
+        lane_mass += mass_term;
+#            if SPH_HAS_COMPRESSIBLE
+        lanes_vec dv, v_mean;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = q.v.c[a] - v_i.c[a];
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
+        const lanes energy_term =
+            weight * ((s.energy + s.p) * vn + mu * inv_r * lanes_dot(dv, v_mean));
+        lane_energy += energy_term;
+#            endif
+        UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+            const int j = nbr_j[slot0 + l];
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) momentum_rate[a * n + j] -= LANE(f[a], l);
+            mass_rate[j] -= LANE(mass_term, l);
+#            if SPH_HAS_COMPRESSIBLE
+            energy_rate[j] -= LANE(energy_term, l);
+#            endif
+        }
+    }
+    vec force = vec_zero();
+    real mass_sum = R(0), energy_sum = R(0);
+    UNROLL for (int l = 0; l < SPH_PAIR_LANES; ++l) {
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) force.c[a] += LANE(lane_force[a], l);
+        mass_sum += LANE(lane_mass, l);
+        energy_sum += LANE(lane_energy, l);
+    }
+    if (walls_end > k_end && !HOLDS_STATE(i)) {
+        vec wall_flux = vec_zero(), wall_visc = vec_zero();
+        for (int k = k_end; k < walls_end; ++k) {
+            const int slot = ROW_SLOT(i, k);
+            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux,
+                               &wall_visc);
+        }
+        const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
+        const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
+        if (PRESENT(wall_force)) {
+            const real keep = rk_force_keep(stage), add = R(1) - keep;
+            UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+                wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
+                wall_force[(SPH_DIM + a) * n + i] =
+                    keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
+            }
+        }
+        force = vec_add(force, vec_add(wall_p, wall_v));
+    }
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) momentum_rate[a * n + i] += force.c[a];
+    mass_rate[i] += mass_sum;
+#            if SPH_HAS_COMPRESSIBLE
+    energy_rate[i] += energy_sum;
+#            else
+    (void)energy_sum;
+    (void)lane_energy;
+#            endif
+}
+
+/* After a stage's update of particle i (eulerian_rk_update read its
+ * rates): the zeros the next stage's eulerian_rates_pairs sums into. */
+FN void eulerian_rates_zero(const int i, const int n, GLOBAL real *restrict mass_rate,
+                            GLOBAL real *restrict momentum_rate ENERGY_RATE_PARAMS) {
+    mass_rate[i] = R(0);
+    vec_store(momentum_rate, n, i, vec_zero());
+#            if SPH_HAS_COMPRESSIBLE
+    (void)energy;
+    energy_rate[i] = R(0);
+#            endif
+}
+#        endif /* !SPH_OPENCL */
 #    endif
 
 #    if SPH_FAR_FIELD

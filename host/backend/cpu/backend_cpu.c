@@ -472,9 +472,11 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
     b->once_dwv = calloc(alloc, esize);
     b->once_inv_r = calloc(alloc, esize);
     b->far_rows = malloc((nfar_rows ? (size_t)nfar_rows : 1) * sizeof(int32_t));
-    b->force_sum = calloc(n * dim, esize);
+    /* the two stages' momentum sums (SSP-RK sums into its momentum_rate) */
+    const bool two_stage = !b->field[FIELD_MOMENTUM_RATE];
+    b->force_sum = two_stage ? calloc(n * dim, esize) : NULL;
     if (!b->once_j || !b->once_e || !b->once_dwv || !b->once_inv_r || !b->far_rows ||
-        !b->force_sum) {
+        (two_stage && !b->force_sum)) {
         free(take);
         return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
     }
@@ -509,7 +511,7 @@ static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) 
     free(take);
     sph_backend_record_buffer(be, "fluid pairs summed once",
                               (n * 4 + 1 + slots + (size_t)nfar_rows) * sizeof(int32_t) +
-                                  slots * (dim + 2) * esize + n * dim * esize);
+                                  slots * (dim + 2) * esize + (two_stage ? n * dim * esize : 0));
     return SPH_OK;
 }
 
@@ -597,8 +599,13 @@ static sph_status cpu_rebuild_finish(sph_backend *be, sph_error *err) {
     sph_status st = pack_pair_rows(be, c, err);
     if (st || (st = list_far_field(be, c, err))) return st;
     c->k->fluid_setup(&c->b);
-    /* the two stages (SSP-RK has a momentum-rate field) */
-    if (!c->b.field[FIELD_MOMENTUM_RATE] && (st = build_once_rows(be, c, err))) return st;
+    /* the rows of pairs summed once, for the two stages and SSP-RK alike */
+    if ((st = build_once_rows(be, c, err))) return st;
+    /* SSP-RK's rates are sums of pairs summed once: zeros to start from
+     * (eulerian_rates_pairs; each stage's update zeroes them after it) */
+    const sph_field rates[] = {FIELD_MASS_RATE, FIELD_MOMENTUM_RATE, FIELD_ENERGY_RATE};
+    for (size_t k = 0; k < sizeof rates / sizeof rates[0]; ++k)
+        if (c->b.field[rates[k]]) memset(c->b.field[rates[k]], 0, field_bytes(be, rates[k]));
     phase_end(be, "fluid setup", t0);
     return SPH_OK;
 }

@@ -27,16 +27,16 @@ typedef struct {
      * pairs come last, row_walls[i] of them (NULL without walls).  NULL
      * before */
     int32_t *row_start, *row_j, *row_walls;
-    /* ... and, for the two-stage passes, each fluid pair once
-     * (eulerian_step.cl, "sum each fluid pair once"; build_once_rows): row i
-     * from once_start[i] holds once_count[i] fluid pairs, each in one row
-     * only (j > i, or j < i in i's block where balance_once_rows handed it
-     * to i; padded with empty pairs, j = i, to whole lanes), once_walls[i]
-     * wall pairs, then
-     * once_far[i] far pairs, in once_j and once_e, once_dwv, once_inv_r;
-     * far_rows lists the nfar_rows rows with far pairs; pair_block is the
-     * block length; force_sum the momentum rates (dim x n).  NULL before,
-     * and for SSP-RK */
+    /* ... and, for the rate passes (the two stages' and SSP-RK's), each
+     * fluid pair once (eulerian_step.cl, "sum each fluid pair once";
+     * build_once_rows): row i from once_start[i] holds once_count[i] fluid
+     * pairs, each in one row only (j > i, or j < i in i's block where
+     * balance_once_rows handed it to i; padded with empty pairs, j = i, to
+     * whole lanes), once_walls[i] wall pairs, then once_far[i] far pairs, in
+     * once_j and once_e, once_dwv, once_inv_r; far_rows lists the nfar_rows
+     * rows with far pairs; pair_block is the block length; force_sum the two
+     * stages' momentum rates (dim x n; NULL for SSP-RK, which sums into its
+     * momentum_rate field).  NULL before */
     int32_t *once_start, *once_count, *once_walls, *once_far, *once_j, *far_rows;
     void *once_e, *once_dwv, *once_inv_r, *force_sum;
     int nfar_rows, pair_block;

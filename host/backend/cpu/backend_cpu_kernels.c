@@ -270,30 +270,31 @@ static void fluid_substep_passes(cpu_buffers *b, real dt, cpu_team *t) {
     {
         if (b->field[FIELD_MOMENTUM_RATE]) {
             /* SSP-RK (time.integrator): per stage the rates of its state,
-             * then its update */
+             * each fluid pair summed once as in the two stages, then its
+             * update, per block as the blocks finish, which zeroes the rates
+             * for the next stage's sums */
+            const fluid_solver solver = fluid_solver_make(prm);
             const int stages = b->rk_stages;
-            for (int stage = 0; stage < stages; ++stage) {
-#    pragma omp for schedule(static) nowait
-                for (int i = 0; i < n; ++i)
-                    eulerian_rates(i, n, stage, dt, prm, FLUID_ROWS(b), (const real *)b->pair_e,
-                                   (const real *)b->pair_dwv, (const real *)b->pair_inv_r,
-                                   F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
-                                   F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                                   F_REAL(b, FIELD_MASS_RATE),
-                                   F_REAL(b, FIELD_MOMENTUM_RATE)
-                                       ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG KIND_FIELD_ARGS,
-                                   F_REAL(b, FIELD_WALL_FORCE));
-                cpu_team_sync(t);
-#    pragma omp for schedule(static) nowait
-                for (int i = 0; i < n; ++i)
-                    eulerian_rk_update(
-                        i, n, stage, stages, dt, prm, F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS),
-                        F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE),
-                        F_REAL(b, FIELD_MASS_RATE), F_REAL(b, FIELD_MOMENTUM_RATE),
-                        F_REAL(b, FIELD_STATE_SAVED) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
-                        F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
-                cpu_team_sync(t);
-            }
+            for (int stage = 0; stage < stages; ++stage)
+                PAIRS_ONCE_THEN(
+                    b, t,
+                    eulerian_rates_pairs(
+                        i, n, k_begin, k_end, walls_end, stage, prm, solver, ONCE_ROWS(b),
+                        ONCE_GEOMETRY(b), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VEL),
+                        F_REAL(b, FIELD_VOL), F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_MASS_RATE),
+                        F_REAL(b, FIELD_MOMENTUM_RATE) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
+                        F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS, F_REAL(b, FIELD_WALL_FORCE)),
+                    {
+                        eulerian_rk_update(
+                            i, n, stage, stages, dt, prm, F_REAL(b, FIELD_VEL),
+                            F_REAL(b, FIELD_MASS), F_HREAL(b, FIELD_RHO), F_REAL(b, FIELD_VOL),
+                            F_REAL(b, FIELD_PRESSURE), F_REAL(b, FIELD_MASS_RATE),
+                            F_REAL(b, FIELD_MOMENTUM_RATE),
+                            F_REAL(b, FIELD_STATE_SAVED) ENERGY_RATE_FIELD_ARGS SOUND_FIELD_ARG,
+                            F_U8(b, FIELD_FIXED) KIND_FIELD_ARGS);
+                        eulerian_rates_zero(i, n, F_REAL(b, FIELD_MASS_RATE),
+                                            F_REAL(b, FIELD_MOMENTUM_RATE) ENERGY_RATE_FIELD_ARGS);
+                    });
         } else {
             /* the two stages, each fluid pair summed once (eulerian_step.cl);
              * the solver's constants formed once per step, not per row (two
