@@ -328,10 +328,19 @@ static sph_status pack_pair_rows(sph_backend *be, cpu_impl *c, sph_error *err) {
     return st;
 }
 
+/* The shortest block of the pairs summed once.  The blocks go to the
+ * threads one at a time (PAIRS_ONCE_THEN's dynamic schedule), and where the
+ * largest j - i is a few particles (a 1D line: 5) that cost more than the
+ * pairs: the Shu-Osher line at dp = 1/400 took 8.4 s on two threads and
+ * 4.1 s on one with blocks of 5 particles. */
+#define ONCE_BLOCK_MIN 256
+
 /* The block length of the pairs summed once (eulerian_step.cl, "sum each
  * fluid pair once"): the largest j - i of a fluid pair with j > i whose
  * particles lie within the cut-off without a periodic image (a pair across
- * a periodic axis may join the first particle and the last). */
+ * a periodic axis may join the first particle and the last), at least
+ * ONCE_BLOCK_MIN (a longer block keeps a block's writes within it and the
+ * next). */
 static int pairs_once_block(const sph_backend *be, const cpu_impl *c, const uint8_t *kind) {
     const size_t n = (size_t)be->n, dim = (size_t)be->features.dim;
     const double *pos = c->b.field[FIELD_POS]; /* fluids run in double */
@@ -351,7 +360,7 @@ static int pairs_once_block(const sph_backend *be, const cpu_impl *c, const uint
             if (d2 <= reach2) block = (int)(j - i);
         }
     }
-    return block;
+    return block > ONCE_BLOCK_MIN ? block : ONCE_BLOCK_MIN;
 }
 
 /* Whether the steps' rates leave particle i's state alone (HOLDS_STATE,
