@@ -412,20 +412,22 @@ if code == 4:
           "the monitor's record names the time, particle and body (%s)" % inst)
 
 # --- 6. the native backend's results do not depend on its thread count
-# (docs/backends.md): its two-stage passes sum each fluid pair once, scattering into the
-# neighbour's sums over fixed blocks of particles, and the pairs across a periodic axis after
-# the blocks (eulerian_step.cl).  The vortex at dp = 1/100 (10 000 particles: the backend's
-# threads run it; periodic on both axes), weakly compressible and as an ideal gas, 30 steps on
-# 1 and on 2 threads: the same bits.
+# (docs/backends.md): its rate passes (the two stages' and SSP-RK's) sum each fluid pair once,
+# scattering into the neighbour's sums over fixed blocks of particles, and the pairs across a
+# periodic axis after the blocks (eulerian_step.cl).  The vortex at dp = 1/100 (10 000
+# particles: the backend's threads run it; periodic on both axes), weakly compressible and as an
+# ideal gas, and the ideal gas with SSP-RK3, 30 steps on 1 and on 2 threads: the same bits.
 if BACKEND == "cpu":
-    for label, scene in (("weakly compressible", TGV), ("ideal gas", TGV_GAS)):
+    for label, scene, extra in (("weakly compressible", TGV, []), ("ideal gas", TGV_GAS, []),
+                                ("ideal gas ssp-rk3", TGV_GAS,
+                                 ["--set", "time.integrator=ssp-rk3"])):
         outs = []
         for threads in (1, 2):
             out = os.path.join(tmp, "threads-%s-%d" % (label.replace(" ", "-"), threads))
             env = dict(os.environ, OMP_NUM_THREADS=str(threads))
             p = subprocess.run([BIN, "run", scene, "--backend", "cpu", "--quiet", "--out", out,
                                 "--set", "resolution.dp=0.01", "--set", "time.end=0.02",
-                                "--set", "time.output_interval=0.01"],
+                                "--set", "time.output_interval=0.01"] + extra,
                                capture_output=True, text=True, env=env, timeout=900)
             check(p.returncode == 0, "%s on %d threads: exit %d (%s)"
                   % (label, threads, p.returncode, p.stderr.strip()))
