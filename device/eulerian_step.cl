@@ -834,6 +834,27 @@ KERNEL void eulerian_mass_energy_rate(
                 ONCE_PRESSURE(q);                                                                  \
                 const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q_i_lanes, q, e)
 
+/* A lane group's momentum terms of the once rows: F_i's share of each pair,
+ * -2 w_i [flux - mu (v_i - v_j) / r~] dW w_j (weight = -2 w_i dW w_j). */
+FN_HOT void momentum_once_terms(lanes f[SPH_DIM], const lanes weight, const fluid_state_lanes s,
+                                const lanes vn, const lanes_vec e, const real mu, const lanes inv_r,
+                                const vec v_i, const lanes_vec v_j) {
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) f[a] =
+        weight * (fluid_momentum_flux_lanes(s, vn, e, a) - mu * inv_r * (v_i.c[a] - v_j.c[a]));
+}
+#            if SPH_HAS_COMPRESSIBLE
+/* ... and the energy term: the energy flux and the pairwise viscous work
+ * (eulerian_mass_energy_rate). */
+FN_HOT lanes energy_once_term(const lanes weight, const fluid_state_lanes s, const lanes vn,
+                              const real mu, const lanes inv_r, const vec v_i,
+                              const lanes_vec v_j) {
+    lanes_vec dv, v_mean;
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = v_j.c[a] - v_i.c[a];
+    UNROLL for (int a = 0; a < SPH_DIM; ++a) v_mean.c[a] = (v_i.c[a] + v_j.c[a]) * R(0.5);
+    return weight * ((s.energy + s.p) * vn + mu * inv_r * lanes_dot(dv, v_mean));
+}
+#            endif
+
 /* Stage 1 on row i's fluid pairs k_begin <= k < k_end, then its wall pairs
  * k_end <= k < walls_end (none for the far pairs): the momentum rate F into
  * force_sum (i's share, and minus it for each j), the wall pairs' pressure
@@ -868,11 +889,8 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
         /* -2 w_i dW w_j: F_i = -2 w_i sum_j [flux - mu (v_i - v_j) / r~] dW w_j */
         const lanes weight = R(-2) * w_i * dwv;
         lanes f[SPH_DIM];
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            f[a] = weight *
-                   (fluid_momentum_flux_lanes(s, vn, e, a) - mu * inv_r * (v_i.c[a] - q.v.c[a]));
-            lane_force[a] += f[a];
-        }
+        momentum_once_terms(f, weight, s, vn, e, mu, inv_r, v_i, q.v);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] += f[a];
         UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
             const int j = nbr_j[slot0 + l];
             UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + j] -= LANE(f[a], l);
@@ -954,12 +972,7 @@ FN_HOT void eulerian_mass_energy_pairs(
         const lanes mass_term = weight * (s.rho * vn);
         lane_mass += mass_term;
 #            if SPH_HAS_COMPRESSIBLE
-        /* the energy flux and the pairwise viscous work (eulerian_mass_energy_rate) */
-        lanes_vec dv, v_mean;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = q.v.c[a] - v_i.c[a];
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
-        const lanes energy_term =
-            weight * ((s.energy + s.p) * vn + mu * inv_r * lanes_dot(dv, v_mean));
+        const lanes energy_term = energy_once_term(weight, s, vn, mu, inv_r, v_i, q.v);
         lane_energy += energy_term;
 #            else
         const lanes energy_term = lanes_zero();
@@ -1069,6 +1082,28 @@ FN real rk_force_keep(const int stage) {
     return stage == 0 ? R(0) : stage == 1 ? R(0.5) : R(1) / R(3);
 }
 
+#        if SPH_FLUID_WALLS
+/* The wall pairs' share of a stage's F_i from their sums (momentum_wall_pair):
+ * the pressure part -2 w_i wall_flux and the viscous part 4 mu w_i wall_visc,
+ * blended into wall_force with the stage's weights (rk_force_keep) where
+ * the scene measures the force on its walls; returns their sum. */
+FN vec rk_wall_pairs_force(const int stage, const vec wall_flux, const vec wall_visc,
+                           const real w_i, const real mu, const int i, const int n,
+                           GLOBAL real *restrict wall_force) {
+    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
+    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
+    if (PRESENT(wall_force)) {
+        const real keep = rk_force_keep(stage), add = R(1) - keep;
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
+            wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
+            wall_force[(SPH_DIM + a) * n + i] =
+                keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
+        }
+    }
+    return vec_add(wall_p, wall_v);
+}
+#        endif
+
 /* (a halted clock makes it a no-op, as the update: the substeps the host
  * enqueued past an output time left the stage rates and the wall forces of
  * a state that was not the step's; the time series' forces come from them) */
@@ -1123,17 +1158,8 @@ KERNEL void eulerian_rates(ITEM_PARAM const int n, const int stage, STEP_DT_PARA
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
-    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
-    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
-    if (PRESENT(wall_force)) {
-        const real keep = rk_force_keep(stage), add = R(1) - keep;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
-            wall_force[(SPH_DIM + a) * n + i] =
-                keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
-        }
-    }
-    force = vec_add(force, vec_add(wall_p, wall_v));
+    force =
+        vec_add(force, rk_wall_pairs_force(stage, wall_flux, wall_visc, w_i, mu, i, n, wall_force));
 #        else
     (void)wall_flux;
     (void)wall_visc;
@@ -1239,19 +1265,12 @@ eulerian_rates_pairs(const int i, const int n, const int k_begin, const int k_en
         const lanes vn = lanes_dot(s.v, e);
         const lanes weight = R(-2) * w_i * dwv;
         lanes f[SPH_DIM];
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            f[a] = weight *
-                   (fluid_momentum_flux_lanes(s, vn, e, a) - mu * inv_r * (v_i.c[a] - q.v.c[a]));
-            lane_force[a] += f[a];
-        }
+        momentum_once_terms(f, weight, s, vn, e, mu, inv_r, v_i, q.v);
+        UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] += f[a];
         const lanes mass_term = weight * (s.rho * vn);
         lane_mass += mass_term;
 #            if SPH_HAS_COMPRESSIBLE
-        lanes_vec dv, v_mean;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) dv.c[a] = q.v.c[a] - v_i.c[a];
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) v_mean.c[a] = (v_i.c[a] + q.v.c[a]) * R(0.5);
-        const lanes energy_term =
-            weight * ((s.energy + s.p) * vn + mu * inv_r * lanes_dot(dv, v_mean));
+        const lanes energy_term = energy_once_term(weight, s, vn, mu, inv_r, v_i, q.v);
         lane_energy += energy_term;
 #            endif
         UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
@@ -1277,17 +1296,8 @@ eulerian_rates_pairs(const int i, const int n, const int k_begin, const int k_en
             momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux,
                                &wall_visc);
         }
-        const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
-        const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
-        if (PRESENT(wall_force)) {
-            const real keep = rk_force_keep(stage), add = R(1) - keep;
-            UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-                wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
-                wall_force[(SPH_DIM + a) * n + i] =
-                    keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
-            }
-        }
-        force = vec_add(force, vec_add(wall_p, wall_v));
+        force = vec_add(
+            force, rk_wall_pairs_force(stage, wall_flux, wall_visc, w_i, mu, i, n, wall_force));
     }
     UNROLL for (int a = 0; a < SPH_DIM; ++a) momentum_rate[a * n + i] += force.c[a];
     mass_rate[i] += mass_sum;
