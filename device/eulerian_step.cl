@@ -834,6 +834,15 @@ KERNEL void eulerian_mass_energy_rate(
                 ONCE_PRESSURE(q);                                                                  \
                 const fluid_state_lanes s = pair_interface_lanes(solver, q_i, q_i_lanes, q, e)
 
+/* Row i's wall pairs k_end <= k < walls_end of the once rows summed into
+ * wall_flux_ and wall_visc_ (momentum_wall_pair). */
+#            define ONCE_WALL_PAIRS_SUM(wall_flux_, wall_visc_)                                    \
+                for (int k = k_end; k < walls_end; ++k) {                                          \
+                    const int slot = ROW_SLOT(i, k);                                               \
+                    momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]),             \
+                                       &(wall_flux_), &(wall_visc_));                              \
+                }
+
 /* A lane group's momentum terms of the once rows: F_i's share of each pair,
  * -2 w_i [flux - mu (v_i - v_j) / r~] dW w_j (weight = -2 w_i dW w_j). */
 FN_HOT void momentum_once_terms(lanes f[SPH_DIM], const lanes weight, const fluid_state_lanes s,
@@ -902,11 +911,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
     if (walls_end > k_end && !HOLDS_STATE(i)) {
         /* the wall pairs' share of F_i: pressure part, viscous part */
         vec wall_flux = vec_zero(), wall_visc = vec_zero();
-        for (int k = k_end; k < walls_end; ++k) {
-            const int slot = ROW_SLOT(i, k);
-            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux,
-                               &wall_visc);
-        }
+        ONCE_WALL_PAIRS_SUM(wall_flux, wall_visc);
         force = vec_add(force, wall_pairs_force(wall_flux, wall_visc, w_i, mu, i, n, wall_force));
     }
     UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + i] += force.c[a];
@@ -1291,11 +1296,7 @@ eulerian_rates_pairs(const int i, const int n, const int k_begin, const int k_en
     }
     if (walls_end > k_end && !HOLDS_STATE(i)) {
         vec wall_flux = vec_zero(), wall_visc = vec_zero();
-        for (int k = k_end; k < walls_end; ++k) {
-            const int slot = ROW_SLOT(i, k);
-            momentum_wall_pair(solver, q_i, WALL_PAIR_ARGS(slot, nbr_j[slot]), &wall_flux,
-                               &wall_visc);
-        }
+        ONCE_WALL_PAIRS_SUM(wall_flux, wall_visc);
         force = vec_add(
             force, rk_wall_pairs_force(stage, wall_flux, wall_visc, w_i, mu, i, n, wall_force));
     }
