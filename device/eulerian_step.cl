@@ -35,9 +35,9 @@
  * Each pass reads only what the passes before wrote: race-free without
  * atomics.  The vorticity is no part of a step: eulerian_vorticity forms it
  * from the state a snapshot writes, when it writes one.  The native backend
- * runs steps 1 and 2 with each fluid pair summed once ("the native backend's
- * two-stage passes sum each fluid pair once", below): the same terms, summed
- * in another order.
+ * runs steps 1 and 2, and SSP-RK's rate passes (eulerian_rates_pairs), with
+ * each fluid pair summed once ("the native backend's two-stage passes sum
+ * each fluid pair once", below): the same terms, summed in another order.
  */
 #ifndef EULERIAN_STEP_CL
 #define EULERIAN_STEP_CL
@@ -761,12 +761,15 @@ KERNEL void eulerian_mass_energy_rate(
 }
 
 #        if !SPH_OPENCL
-/* The native backend's two-stage passes sum each fluid pair once.
+/* The native backend's two-stage passes sum each fluid pair once (and so
+ * do its SSP-RK rate passes, eulerian_rates_pairs).
  *
  * The gather passes above (OpenCL's) solve the Riemann problem of a pair
  * (i, j) twice, once in each particle's row.  Its interface state is the
  * same from both sides (the solvers are symmetric under swapping the sides
- * and reversing e_ij), and every term of eq. 14 and eq. 13 is antisymmetric
+ * and reversing e_ij; HLLC's wave speeds S_l = u_l - c_l, S_r = u_r + c_r
+ * excepted where they cross, S_l > 0 > S_r: each side then takes its own
+ * state, docs/fluids.md), and every term of eq. 14 and eq. 13 is antisymmetric
  * with the symmetric weight w_i w_j dW: the pair's share of particle j's
  * rate is minus its share of particle i's.  So here each fluid pair is in
  * one row only: the row of i holds its fluid pairs with j > i, except
