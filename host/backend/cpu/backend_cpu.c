@@ -428,8 +428,8 @@ static int slot_part(const cpu_buffers *b, const uint8_t *kind, const uint8_t *f
     return part == 0 ? -1 : part;
 }
 
-/* Fluids with the two stages: the rows of pairs summed once (cpu_buffers,
- * eulerian_step.cl), copied from the packed rows after fluid_setup has
+/* Fluids (the two stages and SSP-RK): the rows of pairs summed once
+ * (cpu_buffers, eulerian_step.cl), copied from the packed rows after fluid_setup has
  * corrected their gradients (both directions of a pair: its slot in row
  * i and in row j, g_ji = -g_ij). */
 static sph_status build_once_rows(sph_backend *be, cpu_impl *c, sph_error *err) {
