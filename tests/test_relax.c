@@ -327,8 +327,9 @@ static int copy_file(const char *from, const char *to) {
     return rc;
 }
 
-/* `one_thread`: relax again on one OpenMP thread and compare the bits (the
- * damaged-file case below is a second run on the default threads), and try
+/* `one_thread`: relax on two OpenMP threads, again on one, and compare the
+ * bits (the test environment gives one thread by default: tests/CMakeLists.txt;
+ * the damaged-file case below is a second run on the default threads), and try
  * every change of the scene (else only dp: the file logic does not depend
  * on the dimension, and 3D meshes take a while). */
 static void check_relaxed(test_counts *c, const char *what, const char *text, const bounds *bd,
@@ -344,12 +345,16 @@ static void check_relaxed(test_counts *c, const char *what, const char *text, co
     if (rel) memset(rel, ' ', (size_t)(strchr(rel, '}') - rel + 2));
     const bool have_lattice = generate(c, lat_text, NULL, 0, &l, &q);
     free(lat_text);
+    const int threads = omp_get_max_threads();
+    if (one_thread) omp_set_num_threads(2);
     const double t0 = omp_get_wtime();
-    if (!generate(c, text, NULL, 0, &s, &p)) {
+    const bool generated = generate(c, text, NULL, 0, &s, &p);
+    const double seconds = omp_get_wtime() - t0;
+    omp_set_num_threads(threads);
+    if (!generated) {
         if (have_lattice) sph_particles_free(&q), sph_scene_free(&l);
         return;
     }
-    const double seconds = omp_get_wtime() - t0;
     const sph_relax_report *r = &p.relax[0];
     snprintf(file, sizeof file, "%s", s.bodies[0].relaxation.file);
     printf("%s: %d particles, %d steps, %.2f s; residual mean %.4g max %.4g (lattice %.4g %.4g, "
@@ -411,7 +416,6 @@ static void check_relaxed(test_counts *c, const char *what, const char *text, co
     /* deterministic, on one thread as on two; reused from the file bit for bit */
     sph_scene s2;
     sph_particles p2;
-    const int threads = omp_get_max_threads();
     omp_set_num_threads(1);
     const char *force_tmp[] = {"bodies.[0].relaxation.file=\"again.h5\""};
     if (one_thread && generate(c, text, force_tmp, 1, &s2, &p2)) {

@@ -52,9 +52,12 @@ within 3 % of the public reference code's run (15.975 mm, its observer one spaci
 the top, R/dp = 12) and within 2 % of the documented 16.114 mm; the rim observer spreads to
 the documented 6.675 mm within 5 %.
 
-Under the sanitizers (sphtest.SANITIZED) the round bar runs to 10 us, a sixth of the case, and
-only its checks that hold at any time are made (the monitor, the initial kinetic energy, the
-passive wall, the momentum along it, no crossing); its state at 30 us is the release build's.
+Under the sanitizers (sphtest.SANITIZED) both bars run to 10 us, a sixth of the case, the round
+bar's particles relaxed in 200 steps instead of 1000 (residual
+mean 0.0105 against 0.0103; the 1000 steps took 31 of its 67 s there); only the checks that hold
+at any time are made (the monitor, the initial kinetic energy, the energy never above it or
+the passive wall, the momentum across the axis or along the wall, the observer on the symmetry
+plane, no crossing, plastic work within KE0); the states at 30 and 60 us are the release build's.
 """
 import math
 import os
@@ -161,7 +164,7 @@ try:
     # the square Taylor bar, L/dp = 8
     scene = os.path.join(SRC, "cases", "taylor_bar_square", "scene.cfg")
     out = os.path.join(tmp, "taylor")
-    code, err = run_sphsolid(scene, BACKEND, out)
+    code, err = run_sphsolid(scene, BACKEND, out, ["time.end=1e-5"] if SANITIZED else [])
     check(code == 0, f"Taylor bar: exit {code} ({err})")
     if code == 0:
         summ, ts = run_results(out)
@@ -172,8 +175,9 @@ try:
         p0 = abs(ts["momentum_z"][0])
         check(abs(ke0 - 0.5 * rho0 * 0.006 * 0.006 * 0.03 * 227.0 ** 2) < 1e-9 * ke0,
               f"Taylor bar: initial kinetic energy {ke0:.6g} J")
-        check(ts["kinetic_energy"][-1] < 0.01 * ke0,
-              f"Taylor bar: at rest at 60 us (KE {ts['kinetic_energy'][-1] / ke0:.4f} KE0)")
+        if not SANITIZED:
+            check(ts["kinetic_energy"][-1] < 0.01 * ke0,
+                  f"Taylor bar: at rest at 60 us (KE {ts['kinetic_energy'][-1] / ke0:.4f} KE0)")
         check(np.all(ts["total_energy"][1:] < ke0), "Taylor bar: energy never above its initial")
         sym = max(np.max(np.abs(ts["momentum_x"])), np.max(np.abs(ts["momentum_y"])))
         check(sym < 1e-9 * p0, f"Taylor bar: momentum across the axis {sym:.3g}")
@@ -185,13 +189,17 @@ try:
         check(closest > 0.25 * dp, f"Taylor bar: nearest particle {closest / dp:.3f} dp above "
               "the wall")
         work = plastic_work(out, rho0 * dp ** 3, sigma_y, kappa)
-        check(0.5 * ke0 <= work <= ke0, f"Taylor bar: plastic work {work:.4g} J = "
-              f"{work / ke0:.3f} KE0, in [0.5, 1]")
-        spread = ts["s_x"][-1] - ts["s_x"][0]
-        check(abs(spread / 1.652e-3 - 1) < 0.10,
-              f"Taylor bar: observer s moves out {1e3 * spread:.4f} mm (documented 1.652 mm)")
-        check(abs(ts["top_z"][-1] / 0.021758 - 1) < 0.02,
-              f"Taylor bar: top at {1e3 * ts['top_z'][-1]:.3f} mm (documented 21.758 mm)")
+        if SANITIZED:
+            check(0 < work <= ke0, f"Taylor bar: plastic work {work:.4g} J = "
+                  f"{work / ke0:.3f} KE0, in (0, 1] by 10 us")
+        else:
+            check(0.5 * ke0 <= work <= ke0, f"Taylor bar: plastic work {work:.4g} J = "
+                  f"{work / ke0:.3f} KE0, in [0.5, 1]")
+            spread = ts["s_x"][-1] - ts["s_x"][0]
+            check(abs(spread / 1.652e-3 - 1) < 0.10,
+                  f"Taylor bar: observer s moves out {1e3 * spread:.4f} mm (documented 1.652 mm)")
+            check(abs(ts["top_z"][-1] / 0.021758 - 1) < 0.02,
+                  f"Taylor bar: top at {1e3 * ts['top_z'][-1]:.3f} mm (documented 21.758 mm)")
         print("Taylor bar L/dp = 8: s from %.4f to %.4f mm, top %.3f mm, plastic work %.3f KE0, "
               "KE(end) %.4f KE0, nearest %.3f dp" % (1e3 * ts["s_x"][0], 1e3 * ts["s_x"][-1],
                                                    1e3 * ts["top_z"][-1], work / ke0,
@@ -201,7 +209,8 @@ try:
     scene = os.path.join(SRC, "cases", "taylor_bar_round", "scene.cfg")
     out = os.path.join(tmp, "round")
     code, err = run_sphsolid(scene, BACKEND, out, ["resolution.ratio=6"]
-                             + (["time.end=1e-5"] if SANITIZED else []))
+                             + (["time.end=1e-5", "bodies.bar.relaxation.steps=200"]
+                                if SANITIZED else []))
     check(code == 0, f"round Taylor bar: exit {code} ({err})")
     if code == 0:
         summ, ts = run_results(out)
