@@ -548,16 +548,21 @@ FN void momentum_wall_pair(const fluid_solver solver, const fluid_point q_i, con
 }
 /* The wall pairs' share of F_i from their sums (momentum_wall_pair): the
  * pressure part -2 w_i wall_flux and the viscous part 4 mu w_i wall_visc,
- * each kept in wall_force where the scene measures the force on its walls;
- * returns their sum. */
-FN vec wall_pairs_force(const vec wall_flux, const vec wall_visc, const real w_i, const real mu,
-                        const int i, const int n, GLOBAL real *restrict wall_force) {
+ * each stored in wall_force where the scene measures the force on its walls,
+ * blended with the force already there by `keep` (0 for the two stages and
+ * SSP-RK's first stage: the new parts alone; rk_force_keep); returns their
+ * sum. */
+FN vec wall_pairs_force(const real keep, const vec wall_flux, const vec wall_visc, const real w_i,
+                        const real mu, const int i, const int n, GLOBAL real *restrict wall_force) {
     const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
     const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
     if (PRESENT(wall_force)) {
+        const real add = R(1) - keep;
         UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            wall_force[a * n + i] = wall_p.c[a];
-            wall_force[(SPH_DIM + a) * n + i] = wall_v.c[a];
+            GLOBAL real *p = &wall_force[a * n + i];
+            GLOBAL real *v = &wall_force[(SPH_DIM + a) * n + i];
+            *p = keep == R(0) ? wall_p.c[a] : keep * *p + add * wall_p.c[a];
+            *v = keep == R(0) ? wall_v.c[a] : keep * *v + add * wall_v.c[a];
         }
     }
     return vec_add(wall_p, wall_v);
@@ -700,7 +705,7 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
     /* the wall pairs' share of F_i: pressure part, viscous part */
-    force = vec_add(force, wall_pairs_force(wall_flux, wall_visc, w_i, mu, i, n, wall_force));
+    force = vec_add(force, wall_pairs_force(R(0), wall_flux, wall_visc, w_i, mu, i, n, wall_force));
 #        else
     (void)wall_flux;
     (void)wall_visc;
@@ -915,7 +920,8 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
         /* the wall pairs' share of F_i: pressure part, viscous part */
         vec wall_flux = vec_zero(), wall_visc = vec_zero();
         ONCE_WALL_PAIRS_SUM(wall_flux, wall_visc);
-        force = vec_add(force, wall_pairs_force(wall_flux, wall_visc, w_i, mu, i, n, wall_force));
+        force =
+            vec_add(force, wall_pairs_force(R(0), wall_flux, wall_visc, w_i, mu, i, n, wall_force));
     }
     UNROLL for (int a = 0; a < SPH_DIM; ++a) force_sum[a * n + i] += force.c[a];
 }
@@ -1090,28 +1096,6 @@ FN real rk_force_keep(const int stage) {
     return stage == 0 ? R(0) : stage == 1 ? R(0.5) : R(1) / R(3);
 }
 
-#        if SPH_FLUID_WALLS
-/* The wall pairs' share of a stage's F_i from their sums (momentum_wall_pair):
- * the pressure part -2 w_i wall_flux and the viscous part 4 mu w_i wall_visc,
- * blended into wall_force with the stage's weights (rk_force_keep) where
- * the scene measures the force on its walls; returns their sum. */
-FN vec rk_wall_pairs_force(const int stage, const vec wall_flux, const vec wall_visc,
-                           const real w_i, const real mu, const int i, const int n,
-                           GLOBAL real *restrict wall_force) {
-    const vec wall_p = vec_scale(wall_flux, R(-2) * w_i);
-    const vec wall_v = vec_scale(wall_visc, R(4) * mu * w_i);
-    if (PRESENT(wall_force)) {
-        const real keep = rk_force_keep(stage), add = R(1) - keep;
-        UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-            wall_force[a * n + i] = keep * wall_force[a * n + i] + add * wall_p.c[a];
-            wall_force[(SPH_DIM + a) * n + i] =
-                keep * wall_force[(SPH_DIM + a) * n + i] + add * wall_v.c[a];
-        }
-    }
-    return vec_add(wall_p, wall_v);
-}
-#        endif
-
 /* (a halted clock makes it a no-op, as the update: the substeps the host
  * enqueued past an output time left the stage rates and the wall forces of
  * a state that was not the step's; the time series' forces come from them) */
@@ -1166,8 +1150,8 @@ KERNEL void eulerian_rates(ITEM_PARAM const int n, const int stage, STEP_DT_PARA
     const real w_i = vol[i];
     vec force = vec_axpy(vec_scale(flux, R(-2) * w_i), R(2) * mu * w_i, visc);
 #        if SPH_FLUID_WALLS
-    force =
-        vec_add(force, rk_wall_pairs_force(stage, wall_flux, wall_visc, w_i, mu, i, n, wall_force));
+    force = vec_add(force, wall_pairs_force(rk_force_keep(stage), wall_flux, wall_visc, w_i, mu, i,
+                                            n, wall_force));
 #        else
     (void)wall_flux;
     (void)wall_visc;
@@ -1300,8 +1284,8 @@ eulerian_rates_pairs(const int i, const int n, const int k_begin, const int k_en
     if (walls_end > k_end && !HOLDS_STATE(i)) {
         vec wall_flux = vec_zero(), wall_visc = vec_zero();
         ONCE_WALL_PAIRS_SUM(wall_flux, wall_visc);
-        force = vec_add(
-            force, rk_wall_pairs_force(stage, wall_flux, wall_visc, w_i, mu, i, n, wall_force));
+        force = vec_add(force, wall_pairs_force(rk_force_keep(stage), wall_flux, wall_visc, w_i, mu,
+                                                i, n, wall_force));
     }
     UNROLL for (int a = 0; a < SPH_DIM; ++a) momentum_rate[a * n + i] += force.c[a];
     mass_rate[i] += mass_sum;
