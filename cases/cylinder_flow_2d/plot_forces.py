@@ -51,6 +51,11 @@ def label_of(run, summary):
     integrator = resolved.get("integrator")
     if integrator:
         name += ", " + integrator
+    # a box other than the scene's, set on the command line (README, "The box")
+    box = [o.split("=", 1)[1] for o in summary.get("scene", {}).get("overrides", [])
+           if o.startswith(("boundary.lower=", "boundary.upper="))]
+    if box:
+        name += ", box " + " to ".join(box)
     m = summary.get("metrics", {})
     if m.get("mean_drag_coefficient") is not None:
         name += ": C_D %.3f, C_L ±%.3f, St %.4f (t ≥ %g)" % (
