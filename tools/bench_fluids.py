@@ -29,6 +29,8 @@ against resolution and run time of the extended Eulerian SPH, on the native back
              beside Table 5 of the seed (dp = 1/30: C_D 1.33, C_L +-0.340, St 0.169), and the
              speed, particle-steps per second and the wall time against the issue's target
              (dp = 1/10 to t = 300 in <= 460 s on 2 cores, a tenth of the seed's 4605 s on 8).
+             --cyl-boxes large runs it also in a box with twice the seed's upstream length
+             and height (2.6 times the particles), which confines the flow less.
 
 For each ladder: the observed order per halving, log2(e(dp) / e(dp/2)), and the run time
 (summary.json wall_time_s).  Writes JSON (--json, default bench-results/fluids.json), a
@@ -55,6 +57,8 @@ steps): ~33 s at 1/200 (12 000 particles, 4 420 steps), so ~4.5 min at 1/400 and
 at 1/800 (192 000 particles); the 12 TGV runs take ~5 min together (1/100: 10 000 particles).
   tools/bench_fluids.py --suites tgv --tgv-n 25 50 --kernels laguerre-gauss
   tools/bench_fluids.py --no-run           # tables and plots from the runs that exist
+  tools/bench_fluids.py --suites cylinder --cyl-integrators ssp-rk3 --cyl-boxes seed large
+                                           # the seed's box and the large one (about an hour)
 """
 import argparse
 import concurrent.futures
@@ -88,6 +92,15 @@ CYL_END, CYL_WINDOW = 300.0, 100.0  # the seed's end time; the scene's forces.wi
 CYL_SEED = {"mean_drag_coefficient": 1.33, "lift_amplitude": 0.340, "strouhal_number": 0.169}
 CYL_TOLERANCE = {"mean_drag_coefficient": 0.03, "lift_amplitude": 0.10, "strouhal_number": 0.03}
 CYL_SEED_SECONDS = 4605.0  # the seed's dp = 1/10 run to t = 300 on 8 cores
+# The box of the runs (--cyl-boxes): the seed's 25 D x 15 D (scene.cfg), or one with twice its
+# upstream length and twice its height, the outflow face where it was, the cylinder again
+# half-way up (cases/cylinder_flow_2d/README.md, "The box"): the far field holds the free stream
+# on its faces, and the seed's box is close enough to confine the flow
+CYL_BOXES = {"seed": [],
+             "large": ["shapes.box.lower=[-15.0,0.0]", "shapes.box.upper=[50.0,60.0]",
+                       "shapes.disc.centre=[15.0,30.0]", "boundary.lower=[-15.0,0.0]",
+                       "boundary.upper=[50.0,60.0]"]}
+CYL_BOX_AREA = {"seed": 50.0 * 30.0, "large": 65.0 * 60.0}
 CYL_TARGET_SECONDS = 460.0  # the issue's target on the 2-core machine
 KERNELS = ["laguerre-gauss", "wendland-c2"]
 KERNEL_LABELS = {"laguerre-gauss": "Laguerre-Gauss", "wendland-c2": "Wendland C2"}
@@ -145,10 +158,13 @@ def plan(args):
         for kernel in args.cyl_kernels:
             for n in args.cyl_n:
                 for integrator in args.cyl_integrators:
-                    runs.append({"suite": "cylinder", "formulation": "eulerian-wc",
-                                 "kernel": kernel, "n": n, "limiter": None, "end": args.cyl_end,
-                                 "window": args.cyl_window or min(CYL_WINDOW, args.cyl_end / 3.0),
-                                 "integrator": integrator})
+                    for box in args.cyl_boxes:
+                        runs.append({"suite": "cylinder", "formulation": "eulerian-wc",
+                                     "kernel": kernel, "n": n, "limiter": None,
+                                     "end": args.cyl_end,
+                                     "window": args.cyl_window or min(CYL_WINDOW,
+                                                                      args.cyl_end / 3.0),
+                                     "integrator": integrator, "box": box})
     # SSP-RK2 (time.integrator) on the cheap ladders: the line and the weakly compressible TGV
     for r in list(runs):
         for integrator in args.integrators:
@@ -183,6 +199,9 @@ def plan(args):
             if r["end"] != CYL_END or r["window"] != CYL_WINDOW:
                 sets += [f"time.end={r['end']:g}", f"forces.window={r['window']:g}"]
                 name += f"-t{r['end']:g}-w{r['window']:g}"
+            if box_of(r) != "seed":
+                sets += CYL_BOXES[box_of(r)]
+                name += f"-{box_of(r)}-box"
         else:
             r["scene"] = TGV_SCENES[r["formulation"]]
             sets += [f"time.end={TGV_END:g}", "output.snapshot_interval=0"]
@@ -200,7 +219,7 @@ def plan(args):
         if r["suite"] == "shu-osher":
             factor = 6.0 if r["layout"] == "strip" else 0.1
         if r["suite"] == "cylinder":
-            particles, factor = 1500.0 * r["n"] ** 2, 4.0
+            particles, factor = CYL_BOX_AREA[box_of(r)] * r["n"] ** 2, 4.0
         return (particles * r["n"] * factor, r["dir"])
     return sorted(unique, key=cost)
 
@@ -219,6 +238,11 @@ def integrator_of(r):
     return r.get("integrator", "two-stage")
 
 
+def box_of(r):
+    """The cylinder's box (CYL_BOXES); rows written before the option are the seed's."""
+    return r.get("box", "seed")
+
+
 def variant_label(r):
     """The Shu-Osher layout and any integrator other than the default, for tables and plots."""
     parts = ([layout_of(r)] if layout_of(r) else []) + \
@@ -228,7 +252,7 @@ def variant_label(r):
 
 def row_key(r):
     return (r["suite"], r["formulation"], r["kernel"], r["n"], r["limiter"], layout_of(r),
-            integrator_of(r), r.get("end", CYL_END), r.get("window", CYL_WINDOW))
+            integrator_of(r), r.get("end", CYL_END), r.get("window", CYL_WINDOW), box_of(r))
 
 
 def command(r):
@@ -401,7 +425,7 @@ def collect(r):
                           [float(q["drag_coefficient"]) for q in ts],
                           [float(q["lift_coefficient"]) for q in ts])
         row["particle_substeps_per_second"] = s.get("particle_substeps_per_second")
-        row["end"], row["window"] = r["end"], r["window"]
+        row["end"], row["window"], row["box"] = r["end"], r["window"], box_of(r)
         for key in CYL_SEED:
             row[key] = m.get(key)
             if m.get(key) is not None:
@@ -438,7 +462,7 @@ def add_orders(rows):
     ladders = {}
     for row in rows:
         ladders.setdefault((row["suite"], row["formulation"], row["kernel"], row["limiter"],
-                            layout_of(row), integrator_of(row)), []).append(row)
+                            layout_of(row), integrator_of(row), box_of(row)), []).append(row)
     for members in ladders.values():
         members.sort(key=lambda x: x["n"])
         for a, b in zip(members, members[1:]):
@@ -492,6 +516,7 @@ def markdown(result, args, png_names):
            "tools/bench_fluids.py            # every run (1.5 hours or more on 2 idle cores; "
            "the two Shu-Osher strips at 1/800 take most of it, the cylinder at 1/10 ~13 min)",
            "tools/bench_fluids.py --suites cylinder --cyl-n 20 --cyl-end 200    # the seed's 1/20 to t = 200 (55 min on 2 cores)",
+           "tools/bench_fluids.py --suites cylinder --cyl-integrators ssp-rk3 --cyl-boxes seed large    # the seed's box and one with twice its upstream length and height",
            "tools/bench_fluids.py --quick    # TGV at 1/25 and 1/50, Shu-Osher at 1/200",
            "```", "",
            f"Last invocation: `{result['command']}` on {env.get('date', '?')[:10]}, "
@@ -629,13 +654,15 @@ def markdown(result, args, png_names):
                             f"): >= 3 per halving {'met' if met else '**not met**'}.")
         out.append("")
     cyl = sorted([r for r in rows if r["suite"] == "cylinder"],
-                 key=lambda r: (r["kernel"], r["n"], INTEGRATORS.index(integrator_of(r))))
+                 key=lambda r: (r["kernel"], r["n"], INTEGRATORS.index(integrator_of(r)),
+                                list(CYL_BOXES).index(box_of(r))))
     if cyl:
         out += ["## Flow around a cylinder, Re = 100 (004 §4.3, Fig. 5, Table 5)", "",
                 "`cases/cylinder_flow_2d/scene.cfg` (eulerian-wc, the linearised solver with "
                 "eta = 15, c0 = 10; D = 2 in a 25 D x 15 D box with the far field on every side; "
                 "the cylinder a relaxed wall body at dp/2; CFL 0.5) to t = 300, or the row's end "
-                "(`--cyl-end`).  C_D: the mean drag coefficient, C_L: half the peak-to-peak lift "
+                "(`--cyl-end`); a row marked \"large box\" ran in a box with twice the "
+                "upstream length and height (`--cyl-boxes`).  C_D: the mean drag coefficient, C_L: half the peak-to-peak lift "
                 "coefficient, St: from the mean spacing of C_L's upward crossings, all over the "
                 "row's window, the last 100 s of a run to t = 300 (`summary.json`).  "
                 "Seed (Table 5, Laguerre-Gauss, dp = 1/30): "
@@ -651,7 +678,8 @@ def markdown(result, args, png_names):
         for r in cyl:
             pss = r.get("particle_substeps_per_second")
             out.append(
-                f"| {KERNEL_LABELS.get(r['kernel'], r['kernel'])}, {integrator_of(r)} | "
+                f"| {KERNEL_LABELS.get(r['kernel'], r['kernel'])}, {integrator_of(r)}"
+                f"{', large box' if box_of(r) == 'large' else ''} | "
                 f"{dp_label(r['n'])} | {r.get('end', CYL_END):g} ({r.get('window', CYL_WINDOW):g}) | "
                 f"{fmt(r['particles'], 'd')} | {fmt(r['steps'], 'd')} | " +
                 "".join(f"{fmt(r.get(key))} | {fmt(r.get(key + '_deviation'), '+.1%')} | "
@@ -666,7 +694,8 @@ def markdown(result, args, png_names):
                            f"starts at t = {r['end'] - r['window']:g} and may still hold the "
                            "wake's growth (`cases/cylinder_flow_2d/README.md` gives the "
                            "saturated part's figures).")
-            if r["n"] == 10 and r.get("end", CYL_END) == CYL_END and r.get("wall_time_s"):
+            if r["n"] == 10 and r.get("end", CYL_END) == CYL_END and r.get("wall_time_s") \
+                    and box_of(r) == "seed":
                 met = r["wall_time_s"] <= CYL_TARGET_SECONDS
                 out.append(f"- {KERNEL_LABELS.get(r['kernel'])}, {integrator_of(r)}, dp = 1/10: "
                            f"{r['wall_time_s']:.0f} s "
@@ -790,11 +819,14 @@ def plots(rows, png_dir, title):
         for r in sorted(cyl, key=lambda r: (r["kernel"], r["n"], integrator_of(r))):
             t, cd, cl = r["_forces"]
             lab = f"{KERNEL_LABELS.get(r['kernel'])}, dp = {dp_label(r['n'])}" + (
-                f", {integrator_of(r)}" if integrator_of(r) != "two-stage" else "")
+                f", {integrator_of(r)}" if integrator_of(r) != "two-stage" else "") + (
+                f", {box_of(r)} box" if box_of(r) != "seed" else "")
             colour = KERNEL_COLOURS.get(r["kernel"], "k")
             ls = styles[sorted({q["n"] for q in cyl}).index(r["n"]) % len(styles)]
             if integrator_of(r) != "two-stage":
                 ls = "-."
+            if box_of(r) != "seed":
+                ls = "--"
             axes[0].plot(t, cd, ls, color=colour, lw=0.8, label=lab)
             axes[1].plot(t, cl, ls, color=colour, lw=0.8, label=lab)
         axes[0].axhline(CYL_SEED["mean_drag_coefficient"], color="k", lw=0.8, ls=":",
@@ -919,6 +951,9 @@ def main():
     ap.add_argument("--cyl-n", type=int, nargs="+", default=[10], metavar="N",
                     help="cylinder dp = 1/N (default 10; the seed's 20 and 30 take hours)")
     ap.add_argument("--cyl-kernels", nargs="+", default=["laguerre-gauss"], choices=KERNELS)
+    ap.add_argument("--cyl-boxes", nargs="+", default=["seed"], choices=list(CYL_BOXES),
+                    help="the cylinder's box: the seed's 25 D x 15 D (default) and/or one with "
+                         "twice its upstream length and height")
     ap.add_argument("--cyl-end", type=float, default=CYL_END, metavar="T",
                     help="cylinder end time (default 300, the seed's)")
     ap.add_argument("--cyl-window", type=float, default=None, metavar="W",
