@@ -47,7 +47,8 @@
 #if SPH_HAS_EULERIAN
 
 #    if SPH_HAS_COMPRESSIBLE
-#        define ENERGY_PARAM , GLOBAL const real *restrict energy
+#        define ENERGY_PARAM     , GLOBAL const real *restrict energy
+#        define ENERGY_OUT_PARAM , GLOBAL real *restrict energy
 #        define ENERGY_RATE_PARAMS                                                                 \
             , GLOBAL const real *restrict energy, GLOBAL real *restrict energy_rate
 #        define ENERGY_UPDATE_PARAMS                                                               \
@@ -57,6 +58,7 @@
 #        define ENERGY_PER_VOLUME(k) (energy[k] / vol[k])
 #    else
 #        define ENERGY_PARAM
+#        define ENERGY_OUT_PARAM
 #        define ENERGY_RATE_PARAMS
 #        define ENERGY_UPDATE_PARAMS
 #        define ENERGY_ARG
@@ -65,7 +67,7 @@
 #    endif
 /* (each X_PARAM(S) of this file has its X_ARG(S), the same names for a call:
  * the substep loop's, substep_loop.cl; ENERGY_UPDATE_PARAMS's are
- * ENERGY_RATE_ARGS) */
+ * ENERGY_RATE_ARGS, ENERGY_OUT_PARAM's ENERGY_ARG) */
 
 /* Fixed-state particles (constraints of type "fixed" on a fluid body): a
  * Dirichlet buffer whose state never changes, e.g. the supersonic inflow
@@ -179,20 +181,33 @@ FN fluid_side fluid_side_make(const real rho, const real p, const vec v, const r
 
 /* The formulation's Riemann solver (sph_eulerian.h) with its constants,
  * formed once per particle: HLLC needs only eta (each side brings its own
- * sound speed, the field sound_speed), the linearised solver Z and eta/c0. */
+ * sound speed, the field sound_speed), the linearised solver Z and eta/c0.
+ * SOLVER_BACKGROUND(k) is the pressure p_b the momentum fluxes take from p*:
+ * the ideal gas's method.background_pressure (by default the far field's
+ * p_inf), so that a truncated or irregular support (next to a wall) errs by
+ * p - p_b, not by p of some 70 dynamic pressures; a constant changes no
+ * exact gradient and, the pair terms being antisymmetric, no total momentum.
+ * The energy flux keeps p*: (E* + p*) v* is the work of the whole pressure.
+ * The WC pressure is already 0 at rest (p = c0^2 (rho - rho0)): 0. */
 #    if SPH_HAS_COMPRESSIBLE
-typedef real fluid_solver;
+typedef struct {
+    real eta, background;
+} fluid_solver;
 FN fluid_solver fluid_solver_make(CONSTANT sph_params *prm) {
-    return prm->riemann_limit;
+    fluid_solver k;
+    k.eta = prm->riemann_limit;
+    k.background = prm->background_pressure;
+    return k;
 }
 FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const fluid_side r,
                                const vec e_ij) {
-    return riemann_hllc(l, r, e_ij, k);
+    return riemann_hllc(l, r, e_ij, k.eta);
 }
-#        define SOUND_PARAM     , GLOBAL const real *restrict sound_speed
-#        define SOUND_OUT_PARAM , GLOBAL real *restrict sound_speed
-#        define SOUND_ARG       , sound_speed
-#        define SOUND_OF(k)     sound_speed[k]
+#        define SOLVER_BACKGROUND(k) ((k).background)
+#        define SOUND_PARAM          , GLOBAL const real *restrict sound_speed
+#        define SOUND_OUT_PARAM      , GLOBAL real *restrict sound_speed
+#        define SOUND_ARG            , sound_speed
+#        define SOUND_OF(k)          sound_speed[k]
 #    else
 typedef linearised_solver fluid_solver;
 FN fluid_solver fluid_solver_make(CONSTANT sph_params *prm) {
@@ -202,6 +217,7 @@ FN fluid_state fluid_interface(const fluid_solver k, const fluid_side l, const f
                                const vec e_ij) {
     return riemann_linearised(l, r, e_ij, k);
 }
+#        define SOLVER_BACKGROUND(k) R(0)
 #        define SOUND_PARAM
 #        define SOUND_OUT_PARAM
 #        define SOUND_ARG
@@ -456,11 +472,11 @@ FN_HOT fluid_state_lanes pair_interface_lanes(const fluid_solver solver, const f
 /* The momentum rate's sums over the fluid pairs, in lanes (the first
  * two-stage pass and SSP-RK2's rates): the Riemann momentum flux times
  * dW w_j, and the viscous sum visc_w (v_i - v_j). */
-FN_HOT void momentum_lanes_add(lanes *flux, lanes *visc, const fluid_state_lanes s, const lanes vn,
-                               const lanes_vec e, const lanes dwv, const lanes visc_w,
-                               const vec v_i, const lanes_vec v_j) {
+FN_HOT void momentum_lanes_add(lanes *flux, lanes *visc, const fluid_state_lanes s, const real p_b,
+                               const lanes vn, const lanes_vec e, const lanes dwv,
+                               const lanes visc_w, const vec v_i, const lanes_vec v_j) {
     UNROLL for (int a = 0; a < SPH_DIM; ++a) {
-        flux[a] += dwv * fluid_momentum_flux_lanes(s, vn, e, a);
+        flux[a] += dwv * fluid_momentum_flux_lanes(s, vn, e, a, p_b);
         visc[a] += visc_w * (v_i.c[a] - v_j.c[a]);
     }
 }
@@ -543,7 +559,8 @@ FN wall_pair wall_pair_load(GLOBAL const real *restrict pair_e,
 FN void momentum_wall_pair(const fluid_solver solver, const fluid_point q_i, const wall_pair w,
                            vec *wall_flux, vec *wall_visc) {
     const fluid_state s = wall_interface(solver, q_i, w.n_j);
-    *wall_flux = vec_axpy(*wall_flux, w.dwv, fluid_momentum_flux(s, w.e));
+    *wall_flux =
+        vec_axpy(*wall_flux, w.dwv, fluid_momentum_flux(s, w.e, SOLVER_BACKGROUND(solver)));
     *wall_visc = vec_axpy(*wall_visc, w.dwv * w.inv_r, q_i.v);
 }
 /* The wall pairs' share of F_i from their sums (momentum_wall_pair): the
@@ -693,7 +710,8 @@ eulerian_momentum_rate(ITEM_PARAM const int n, STEP_DT_PARAM, CONSTANT sph_param
         lanes inv_r;
         PAIR_LANES_STATES(&inv_r, vel, MOMENTUM_WALL_PAIR);
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
-        momentum_lanes_add(lane_flux, lane_visc, s, lanes_dot(s.v, e), e, dwv_k, visc_w, v_i, q.v);
+        momentum_lanes_add(lane_flux, lane_visc, s, SOLVER_BACKGROUND(solver), lanes_dot(s.v, e), e,
+                           dwv_k, visc_w, v_i, q.v);
     }
     WALL_PAIRS_AFTER_LANES(MOMENTUM_WALL_PAIR)
     vec flux = vec_zero(), visc = vec_zero();
@@ -854,10 +872,10 @@ KERNEL void eulerian_mass_energy_rate(
 /* A lane group's momentum terms of the once rows: F_i's share of each pair,
  * -2 w_i [flux - mu (v_i - v_j) / r~] dW w_j (weight = -2 w_i dW w_j). */
 FN_HOT void momentum_once_terms(lanes f[SPH_DIM], const lanes weight, const fluid_state_lanes s,
-                                const lanes vn, const lanes_vec e, const real mu, const lanes inv_r,
-                                const vec v_i, const lanes_vec v_j) {
+                                const real p_b, const lanes vn, const lanes_vec e, const real mu,
+                                const lanes inv_r, const vec v_i, const lanes_vec v_j) {
     UNROLL for (int a = 0; a < SPH_DIM; ++a) f[a] =
-        weight * (fluid_momentum_flux_lanes(s, vn, e, a) - mu * inv_r * (v_i.c[a] - v_j.c[a]));
+        weight * (fluid_momentum_flux_lanes(s, vn, e, a, p_b) - mu * inv_r * (v_i.c[a] - v_j.c[a]));
 }
 #            if SPH_HAS_COMPRESSIBLE
 /* ... and the energy term: the energy flux and the pairwise viscous work
@@ -906,7 +924,7 @@ eulerian_momentum_pairs(const int i, const int n, const int k_begin, const int k
         /* -2 w_i dW w_j: F_i = -2 w_i sum_j [flux - mu (v_i - v_j) / r~] dW w_j */
         const lanes weight = R(-2) * w_i * dwv;
         lanes f[SPH_DIM];
-        momentum_once_terms(f, weight, s, vn, e, mu, inv_r, v_i, q.v);
+        momentum_once_terms(f, weight, s, SOLVER_BACKGROUND(solver), vn, e, mu, inv_r, v_i, q.v);
         UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] += f[a];
         UNROLL_LANES for (int l = 0; l < SPH_PAIR_LANES; ++l) {
             const int j = nbr_j[slot0 + l];
@@ -1137,7 +1155,8 @@ KERNEL void eulerian_rates(ITEM_PARAM const int n, const int stage, STEP_DT_PARA
         PAIR_LANES_STATES(&inv_r, vel, RATES_WALL_PAIR);
         const lanes dwv_k = dwv * keep, visc_w = dwv * inv_r * keep;
         const lanes vn = lanes_dot(s.v, e);
-        momentum_lanes_add(lane_flux, lane_visc, s, vn, e, dwv_k, visc_w, v_i, q.v);
+        momentum_lanes_add(lane_flux, lane_visc, s, SOLVER_BACKGROUND(solver), vn, e, dwv_k, visc_w,
+                           v_i, q.v);
         mass_energy_lanes_add(&acc, s, vn, dwv_k, visc_w, v_i, q.v);
     }
     WALL_PAIRS_AFTER_LANES(RATES_WALL_PAIR)
@@ -1257,7 +1276,7 @@ eulerian_rates_pairs(const int i, const int n, const int k_begin, const int k_en
         const lanes vn = lanes_dot(s.v, e);
         const lanes weight = R(-2) * w_i * dwv;
         lanes f[SPH_DIM];
-        momentum_once_terms(f, weight, s, vn, e, mu, inv_r, v_i, q.v);
+        momentum_once_terms(f, weight, s, SOLVER_BACKGROUND(solver), vn, e, mu, inv_r, v_i, q.v);
         UNROLL for (int a = 0; a < SPH_DIM; ++a) lane_force[a] += f[a];
         const lanes mass_term = weight * (s.rho * vn);
         lane_mass += mass_term;
@@ -1320,8 +1339,11 @@ FN void eulerian_rates_zero(const int i, const int n, GLOBAL real *restrict mass
  *   rho = S rhobar + (1 - S) rho_inf,   v_n = S vbar_n + (1 - S) U_inf . n,
  * with plain means rhobar, vbar over those neighbours; the tangential
  * velocity is the free stream's on inflow faces and the neighbours' mean on
- * outflow faces; p by the EOS, m = rho w.  It reads interior particles only
- * and writes far-field ones only: race-free. */
+ * outflow faces; p by the EOS, m = rho w.  The ideal gas (compressible)
+ * blends its pressure as its density, p = S pbar + (1 - S) p_inf, the
+ * subsonic treatment (the scene refuses |U_inf| >= c_inf), and its total
+ * energy and sound speed follow from the blended state.  It reads interior
+ * particles only and writes far-field ones only: race-free. */
 /* S_i = sum_j W_ij w_j over far-field particle i's interior fluid
  * neighbours j: positions, volumes and kinds are frozen, so the native
  * backend forms it once (fluid setup) and blends with it every step (the
@@ -1346,13 +1368,14 @@ FN real far_field_weight(const int i, const int n, CONSTANT sph_params *prm, PAI
 }
 
 /* Far-field particle i's blend with its weight S_i (far_field_weight). */
-FN void far_field_blend(const int i, const int n, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
-                        const real weight, GLOBAL hreal *restrict rho, GLOBAL real *restrict vel,
-                        GLOBAL real *restrict mass, GLOBAL const real *restrict vol,
-                        GLOBAL real *restrict pressure KIND_PARAMS) {
+FN void
+far_field_blend(const int i, const int n, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
+                const real weight, GLOBAL hreal *restrict rho, GLOBAL real *restrict vel,
+                GLOBAL real *restrict mass, GLOBAL const real *restrict vol,
+                GLOBAL real *restrict pressure ENERGY_OUT_PARAM SOUND_OUT_PARAM KIND_PARAMS) {
     ROW_WALLS_UNUSED;
     const int kind_i = KIND_OF(i);
-    real rho_sum = R(0);
+    real rho_sum = R(0), p_sum = R(0);
     vec v_sum = vec_zero();
     int count = 0;
     const int count_i = ROW_COUNT(i);
@@ -1360,9 +1383,11 @@ FN void far_field_blend(const int i, const int n, CONSTANT sph_params *prm, PAIR
         const int j = nbr_j[ROW_SLOT(i, k)];
         if (KIND_OF(j) != SPH_PARTICLE_FLUID) continue;
         rho_sum += (real)rho[j];
+        p_sum += pressure[j];
         v_sum = vec_add(v_sum, vec_load(vel, n, j));
         ++count;
     }
+    (void)p_sum; /* the WC pressure follows from the blended density */
     vec u_inf;
     UNROLL for (int a = 0; a < SPH_DIM; ++a) u_inf.c[a] = prm->far_field_velocity[a];
     const real rho_inf = prm->far_field_density;
@@ -1374,24 +1399,40 @@ FN void far_field_blend(const int i, const int n, CONSTANT sph_params *prm, PAIR
     const real vn = s * vec_dot(v_bar, nrm) + (R(1) - s) * vec_dot(u_inf, nrm);
     const vec tangential_of = kind_i == SPH_PARTICLE_INFLOW ? u_inf : v_bar;
     const vec tangential = vec_axpy(tangential_of, -vec_dot(tangential_of, nrm), nrm);
-    vec_store(vel, n, i, vec_axpy(tangential, vn, nrm));
+    const vec v = vec_axpy(tangential, vn, nrm);
+    vec_store(vel, n, i, v);
     rho[i] = (hreal)r;
     mass[i] = r * vol[i];
+#        if SPH_HAS_COMPRESSIBLE
+    /* the ideal gas: its pressure blended as its density, with the plain
+     * mean p-bar, toward p_inf; the total energy and sound speed follow
+     * from the blended state, as eulerian_prepare forms them */
+    const real p_bar = count > 0 ? p_sum / (real)count : prm->far_field_pressure;
+    const real p = s * p_bar + (R(1) - s) * prm->far_field_pressure;
+    const real gamma = prm->materials[0].gamma;
+    pressure[i] = p;
+    energy[i] = vol[i] * (p / (gamma - R(1)) + R(0.5) * r * vec_dot(v, v));
+    sound_speed[i] = ideal_gas_sound_speed(p, r, gamma);
+#        else
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);
+#        endif
 }
 
 /* buffers of eulerian_far_field: reads row_start:int*n row_walls:int*n nbr_j:int*pairs
- * nbr_count:int*n pos vol kind normal; updates rho vel mass pressure */
-KERNEL void eulerian_far_field(ITEM_PARAM const int n, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
-                               GLOBAL const hreal *restrict pos, GLOBAL hreal *restrict rho,
-                               GLOBAL real *restrict vel, GLOBAL real *restrict mass,
-                               GLOBAL const real *restrict vol,
-                               GLOBAL real *restrict pressure KIND_PARAMS) {
+ * nbr_count:int*n pos vol kind normal; writes energy sound_speed; updates rho vel mass
+ * pressure */
+KERNEL void
+eulerian_far_field(ITEM_PARAM const int n, CONSTANT sph_params *prm, PAIR_ROWS_PARAMS,
+                   GLOBAL const hreal *restrict pos, GLOBAL hreal *restrict rho,
+                   GLOBAL real *restrict vel, GLOBAL real *restrict mass,
+                   GLOBAL const real *restrict vol,
+                   GLOBAL real *restrict pressure ENERGY_OUT_PARAM SOUND_OUT_PARAM KIND_PARAMS) {
     const int i = ITEM_ID;
     if (i >= n) return;
     if (!IS_FAR_FIELD(i)) return;
     const real weight = far_field_weight(i, n, prm, PAIR_ROWS_ARGS, pos, vol KIND_ARGS);
-    far_field_blend(i, n, prm, PAIR_ROWS_ARGS, weight, rho, vel, mass, vol, pressure KIND_ARGS);
+    far_field_blend(i, n, prm, PAIR_ROWS_ARGS, weight, rho, vel, mass, vol,
+                    pressure ENERGY_ARG SOUND_ARG KIND_ARGS);
 }
 #    endif
 
@@ -1435,11 +1476,15 @@ KERNEL void eulerian_vorticity(ITEM_PARAM const int n, PAIR_ROWS_PARAMS,
  * this)): WC |v|^2 with C0 = c0; compressible (c + |v|)^2 with C0 = 0, the
  * sound speed being the particle's own.  A non-finite state, a density
  * <= 0 or (compressible) a pressure <= 0 gives +inf: the host stops the run
- * and names the particle (host/run/instability.c). */
+ * and names the particle (host/run/instability.c).  The one exception is a
+ * wall particle of the ideal gas, at rest with p = 0 exactly
+ * (host/setup/particles.c): it carries no gas state (no pair reads it) and
+ * no signal, 0. */
 FN real eulerian_signal_speed2(CONSTANT sph_params *prm, const real rho, const real p,
                                const vec v) {
     const real v2 = vec_dot(v, v);
 #    if SPH_HAS_COMPRESSIBLE
+    if (p == R(0) && v2 == R(0) && rho > R(0)) return R(0);
     if (!(rho > R(0)) || !(p > R(0))) return INFINITY;
     const real s = ideal_gas_sound_speed(p, rho, prm->materials[0].gamma) + sqrt(v2);
     return isfinite(s) ? s * s : INFINITY;

@@ -35,9 +35,10 @@ typedef struct {
 } fluid_state;
 
 /* The momentum flux of an interface state along e (eq. 14's
- * rho* v* (v* . e) + p* e). */
-FN vec fluid_momentum_flux(const fluid_state s, const vec e) {
-    return vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p, e);
+ * rho* v* (v* . e) + p* e), with the background pressure p_b taken from p*
+ * (0 but for the ideal gas: eulerian_step.cl, SOLVER_BACKGROUND). */
+FN vec fluid_momentum_flux(const fluid_state s, const vec e, const real p_b) {
+    return vec_axpy(vec_scale(s.v, s.rho * vec_dot(s.v, e)), s.p - p_b, e);
 }
 
 /* curl += g x dv, the pair's share of curl v = sum_j g_ij x (v_j - v_i)
@@ -151,8 +152,8 @@ FN fluid_state_lanes riemann_linearised_lanes(const fluid_side_lanes l, const fl
 
 /* fluid_momentum_flux on lanes, component a. */
 FN lanes fluid_momentum_flux_lanes(const fluid_state_lanes s, const lanes vn, const lanes_vec e,
-                                   const int a) {
-    return s.v.c[a] * (s.rho * vn) + s.p * e.c[a];
+                                   const int a, const real p_b) {
+    return s.v.c[a] * (s.rho * vn) + (s.p - p_b) * e.c[a];
 }
 
 /* HLLC with the dissipation limiter, eqs. 15-16 and 19-20, in the physical

@@ -77,7 +77,9 @@
     X(S, T, REAL, contact_impedance, 1, "contact impedance factor (x 1/2 rho0 c0, sph_contact.h)") \
     X(S, T, REAL, contact_penalty, 1, "contact penalty factor (x rho0 c0^2, sph_contact.h)")       \
     X(S, T, REALS, period, 3, "fluids: length of each periodic axis (0: not periodic)")            \
+    X(S, T, REAL, background_pressure, 1, "fluids: p_b of the compressible momentum fluxes")       \
     X(S, T, REAL, far_field_density, 1, "fluids: the far field's free-stream density")             \
+    X(S, T, REAL, far_field_pressure, 1, "fluids: the far field's free-stream pressure (gas)")     \
     X(S, T, REALS, far_field_velocity, 3, "fluids: the far field's free-stream velocity")          \
     X(S, T, REAL, viscous_eps_linear, 1, "fluids: eps of 1/(r + eps) in eq. 13, or 0")             \
     X(S, T, REAL, viscous_eps_squared, 1, "fluids: eps^2 of r/(r^2 + eps^2) in eq. 13, or 0")      \

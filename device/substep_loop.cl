@@ -194,7 +194,7 @@ __kernel __attribute__((reqd_work_group_size(SPH_LOOP_WG, 1, 1))) void eulerian_
 #    if SPH_FAR_FIELD
         FOR_MY_PARTICLES(i) {
             eulerian_far_field(i, n, prm, PAIR_ROWS_ARGS, pos, rho, vel, mass, vol,
-                               pressure KIND_ARGS);
+                               pressure ENERGY_ARG SOUND_ARG KIND_ARGS);
         }
         PASS_END;
 #    endif

@@ -417,11 +417,12 @@ ROWS = [
          'formulation "enog-a"'],
         [ed('    name = "plate";\n', '    name = "plate"; role = "wall";\n')],
         marker='role = "wall"'),
-    Row("fluid: a far field in the compressible formulation", 2,
-        ["{file}:{line}: boundary.far_field: the far field of the compressible formulation is "
-         'not built yet (formulation "eulerian-compressible")'],
+    Row("fluid: a supersonic far field of the gas", 2,
+        ["{file}:{line}: boundary.far_field.velocity: the far field is a subsonic treatment: the "
+         "free stream's Mach number |U_inf| / c_inf = 12 / 10.0001 = 1.19999 must be below 1"],
         [ed('boundary = { periodic = ["x", "y"];',
-            'boundary = { periodic = ["x"];\n  far_field = { velocity = [1.0, 0.0]; };')],
+            'boundary = { periodic = ["x"];\n'
+            '  far_field = { velocity = [12.0, 0.0]; pressure = 71.43; };')],
         text=GAS_TEXT, marker="far_field ="),
     Row("fluid: forces without a wall body", 2,
         ["{file}:{line}: forces: the forces are those the fluid exerts on the wall bodies, and "

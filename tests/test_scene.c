@@ -965,9 +965,18 @@ static const bad_row CYL_BAD[] = {
     {"far field density 0", "far_field = { density = 1.0;", "far_field = { density = 0.0;", NULL,
      "%F:17: boundary.far_field.density: must be > 0, got 0"},
     {"far field with an unknown key", "far_field = { density",
+     "far_field = { temperature = 1.0; density", NULL,
+     "%F:17: boundary.far_field.temperature: unknown key 'temperature' (valid keys here: "
+     "density, velocity, pressure)"},
+    {"far field pressure in the WC formulation", "far_field = { density",
      "far_field = { pressure = 1.0; density", NULL,
-     "%F:17: boundary.far_field.pressure: unknown key 'pressure' (valid keys here: density, "
-     "velocity)"},
+     "%F:17: boundary.far_field.pressure: formulation \"eulerian-wc\" derives the free stream's "
+     "pressure from its density"},
+    {"background_pressure in the WC formulation", "formulation = \"eulerian-wc\";",
+     "formulation = \"eulerian-wc\"; background_pressure = 1.0;", NULL,
+     "%F:4: method.background_pressure: is for the ideal gas (formulation "
+     "\"eulerian-compressible\"); formulation \"eulerian-wc\" has p = c0^2 (rho - rho0), "
+     "already 0 at rest"},
     {"far field not a group", "far_field = { density = 1.0; velocity = [1.0, 0.0]; };",
      "far_field = 1.0;", NULL, "%F:17: boundary.far_field: expected a group { ... }, got a number"},
     {"far field without lower", "lower = [0.0, 0.0]; upper = [6.0, 4.0]; };\nforces",
@@ -1043,16 +1052,28 @@ static const bad_row GAS_BAD[] = {
     {"initial_pressure: unknown variable", "initial_pressure = 71.43;",
      "initial_pressure = \"p0 * x\";", NULL,
      "%F:13: bodies.f.initial_pressure: the expression \"p0 * x\": unknown variable 'p0'"},
-    {"far field in the compressible formulation", "boundary = { periodic = [\"x\", \"y\"];",
+    {"far field: a gas without p_inf", "boundary = { periodic = [\"x\", \"y\"];",
      "boundary = { periodic = [\"x\"]; far_field = { velocity = [1.0, 0.0]; };", NULL,
-     "%F:15: boundary.far_field: the far field of the compressible formulation is not built yet "
-     "(formulation \"eulerian-compressible\")"},
-    {"a wall in the compressible formulation", "shape = \"box\"; initial_pressure = 71.43; }",
+     "%F:15: boundary.far_field.pressure: missing required key: the ideal gas of formulation "
+     "\"eulerian-compressible\" needs the free stream's pressure p_inf"},
+    {"far field: p_inf 0", "boundary = { periodic = [\"x\", \"y\"];",
+     "boundary = { periodic = [\"x\"]; far_field = { velocity = [1.0, 0.0]; pressure = 0.0; };",
+     NULL, "%F:15: boundary.far_field.pressure: must be > 0, got 0"},
+    {"far field: a supersonic free stream", "boundary = { periodic = [\"x\", \"y\"];",
+     "boundary = { periodic = [\"x\"]; far_field = { velocity = [12.0, 0.0]; pressure = 71.43; "
+     "};",
+     NULL,
+     "%F:15: boundary.far_field.velocity: the far field is a subsonic treatment: the free "
+     "stream's Mach number |U_inf| / c_inf = 12 / 10.0001 = 1.19999 must be below 1"},
+    {"a gas bounded by a wall without p_b", "shape = \"box\"; initial_pressure = 71.43; }",
      "shape = \"box\"; initial_pressure = 71.43; },\n  { name = \"w\"; role = \"wall\"; shape "
      "= \"box\"; }",
      NULL,
-     "%F:14: bodies.w.role: walls of the compressible formulation are not built yet (formulation "
-     "\"eulerian-compressible\"); wall bodies are implemented for \"eulerian-wc\""},
+     "%F:4: method.background_pressure: missing required key: a gas bounded by wall body 'w' "
+     "without a far field needs its ambient pressure p_b"},
+    {"background_pressure negative", GAS_FORMULATION,
+     "formulation = \"eulerian-compressible\"; background_pressure = -1.0;", NULL,
+     "%F:4: method.background_pressure: must be >= 0, got -1"},
     {"mach_number is fine, displacement is not", ");\nboundary",
      ");\noutput = { fields = [\"mach_number\", \"displacement\"]; };\nboundary", NULL,
      "%F:15: output.fields.[1]: displacement is a field of the solid formulations; formulation "

@@ -171,7 +171,8 @@ static sph_status write_fluid_point_data(const sph_snapshots *s, const sph_h5_wr
             }
             const double c =
                 k->ideal_gas_sound_speed(s->pressure[i], s->rho[i], s->ctx.prm->materials[0].gamma);
-            rows[s->id[i]] = sqrt(v2) / c;
+            /* a wall particle of the ideal gas: at rest, p = 0, c = 0 */
+            rows[s->id[i]] = v2 > 0.0 ? sqrt(v2) / c : 0.0;
         }
         st = sph_h5_write(w, pd, "mach_number", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 1, scalar_dims,
                           rows, err);

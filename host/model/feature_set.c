@@ -180,6 +180,8 @@ sph_status sph_params_fill(const sph_scene *scene, const sph_particles *particle
     }
     prm->periodic_mask = scene->periodic_mask;
     prm->far_field_density = scene->far_field_density;
+    prm->far_field_pressure = scene->far_field_pressure;
+    prm->background_pressure = scene->background_pressure;
     for (int a = 0; a < scene->dim; ++a) prm->far_field_velocity[a] = scene->far_field_velocity[a];
     for (int a = 0; a < scene->dim; ++a)
         if (scene->periodic_mask & (1 << a))

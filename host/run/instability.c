@@ -1,6 +1,7 @@
 #include "instability.h"
 
 #include "physics.h"
+#include "sph_constants.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -90,22 +91,38 @@ static sph_status find_monitor_max(sph_backend *be, const sph_params_f64 *prm, h
 
 /* Fluids: the first (lowest id) particle whose density, or compressible
  * pressure, is not positive (the step clock's signal speed is then +inf,
- * device/eulerian_step.cl). */
+ * device/eulerian_step.cl).  A wall particle of the ideal gas carries p = 0
+ * (host/setup/particles.c): its pressure is not looked at. */
 static sph_status find_nonpositive(sph_backend *be, host_state *h, int *slot,
                                    sph_trip_location *out, sph_error *err) {
     const sph_field fields[] = {FIELD_RHO, FIELD_PRESSURE};
     const char *names[] = {"density", "pressure"};
     const bool compressible = be->features.formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
+    uint8_t *kind = NULL;
+    if (compressible && be->fields[FIELD_KIND].present) {
+        kind = malloc((size_t)h->n);
+        if (!kind) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+        const sph_status st = be->ops->download(be, FIELD_KIND, kind, err);
+        if (st) {
+            free(kind);
+            return st;
+        }
+    }
     for (int f = 0; f < (compressible ? 2 : 1); ++f) {
         double *x = alloc_field(be, fields[f]);
-        if (!x) return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+        if (!x) {
+            free(kind);
+            return sph_fail(err, SPH_ERR_RUNTIME, "out of host memory");
+        }
         const sph_status st = be->ops->download(be, fields[f], x, err);
         if (st) {
             free(x);
+            free(kind);
             return st;
         }
         for (int i = 0; i < h->n; ++i)
-            if (!(x[i] > 0.0) && (*slot < 0 || h->id[i] < h->id[*slot])) {
+            if (!(x[i] > 0.0) && !(f == 1 && kind && kind[i] == SPH_PARTICLE_WALL) &&
+                (*slot < 0 || h->id[i] < h->id[*slot])) {
                 *slot = i;
                 snprintf(out->field, sizeof out->field, "%s", names[f]);
                 out->nonpositive = true;
@@ -113,6 +130,7 @@ static sph_status find_nonpositive(sph_backend *be, host_state *h, int *slot,
         free(x);
         if (*slot >= 0) break;
     }
+    free(kind);
     return SPH_OK;
 }
 

@@ -378,13 +378,18 @@ static sph_status apply_fluid_state(const sph_scene *scene, sph_particles *out, 
         const sph_material *mat = &scene->materials[body->material];
         /* the particle's volume: dp^d, a wall's (spacing_ratio dp)^d */
         const double volume = pow(body_spacing(scene, b), dim);
-        if (compressible && !body->initial_pressure[0])
+        /* a wall particle of the ideal gas carries p = 0 (and so E = 0,
+         * c = 0): no pair reads a wall particle's state, the fluid
+         * particle's mirrored one is the other side of its Riemann problem
+         * (device/eulerian_step.cl, wall_interface) */
+        const bool gas = compressible && !is_wall(scene, b);
+        if (gas && !body->initial_pressure[0])
             return sph_fail(err, SPH_ERR_INPUT,
                             "%s.initial_pressure: missing: the ideal gas of formulation "
                             "\"eulerian-compressible\" starts from a pressure",
                             body->where);
         /* entry 0 the density, 1 the pressure; "" is 0 everywhere */
-        const char *texts[2] = {body->initial_density, compressible ? body->initial_pressure : ""};
+        const char *texts[2] = {body->initial_density, gas ? body->initial_pressure : ""};
         const char *wheres[2] = {
             body->initial_density_where[0] ? body->initial_density_where : body->where,
             body->initial_pressure_where[0] ? body->initial_pressure_where : body->where};
@@ -404,7 +409,7 @@ static sph_status apply_fluid_state(const sph_scene *scene, sph_particles *out, 
             /* a library error or a value that is not finite: `why` says which */
             bool ok = sph_expression_field_eval(&field, x, false, v, &bad, why, sizeof why);
             if (ok && !body->initial_density[0]) v[0] = mat->density;
-            if (ok && (!(v[0] > 0.0) || (compressible && !(v[1] > 0.0)))) {
+            if (ok && (!(v[0] > 0.0) || (gas && !(v[1] > 0.0)))) {
                 ok = false;
                 bad = v[0] > 0.0 ? 1 : 0;
                 snprintf(why, sizeof why, "gives %g", v[bad]);
@@ -420,7 +425,7 @@ static sph_status apply_fluid_state(const sph_scene *scene, sph_particles *out, 
             }
             out->rho[i] = v[0];
             out->mass[i] = v[0] * volume;
-            if (compressible) out->pressure[i] = v[1];
+            if (gas) out->pressure[i] = v[1];
         }
         sph_expression_field_free(&field);
         start += count;

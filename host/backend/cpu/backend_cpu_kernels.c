@@ -163,7 +163,7 @@ static void far_field_pass(cpu_buffers *b, cpu_team *t) {
     for (int r = 0; r < b->nfar_field; ++r)
         far_field_blend(b->far_field[r], n, prm, FLUID_ROWS(b), weight[r], F_HREAL(b, FIELD_RHO),
                         F_REAL(b, FIELD_VEL), F_REAL(b, FIELD_MASS), F_REAL(b, FIELD_VOL),
-                        F_REAL(b, FIELD_PRESSURE) KIND_FIELD_ARGS);
+                        F_REAL(b, FIELD_PRESSURE) ENERGY_FIELD_ARG SOUND_FIELD_ARG KIND_FIELD_ARGS);
     cpu_team_sync(t);
 }
 

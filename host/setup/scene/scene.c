@@ -72,6 +72,23 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
         (st = scene_parse_contact(L, root)) || (st = scene_parse_boundary(L, root)) ||
         (st = scene_parse_forces(L, root)))
         return st;
+    /* A gas bounded by wall bodies: the wall pairs complete each truncated
+     * support's pressure sum only approximately (the walls are relaxed at
+     * dp/2), and the momentum fluxes err by p - p_b (device/eulerian_step.cl,
+     * SOLVER_BACKGROUND); without a far field (whose p_inf is the default)
+     * the ambient pressure is the scene's to say. */
+    if (sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE && !sc->has_far_field &&
+        !sc->background_pressure_given)
+        for (int b = 0; b < sc->nbodies; ++b)
+            if (sc->bodies[b].role == SPH_BODY_WALL) {
+                const config_setting_t *method = config_setting_get_member(root, "method");
+                return scene_fail_at(L, method ? method : root, "background_pressure",
+                                     "missing required key: a gas bounded by wall body '%s' "
+                                     "without a far field needs its ambient pressure p_b, "
+                                     "which the momentum fluxes are taken relative to (a wall "
+                                     "pair's error is p - p_b: docs/fluids.md)",
+                                     sc->bodies[b].name);
+            }
     if ((st = scene_vector(L, root, SK_GRAVITY, sc->dim, sc->gravity, NULL)) ||
         (st = scene_vector(L, root, SK_LATTICE_ORIGIN, sc->dim, sc->lattice_origin, &at)))
         return st;

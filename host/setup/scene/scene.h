@@ -319,6 +319,10 @@ typedef struct {
     double hourglass_alpha;           /* TLSPH hourglass control (002) */
     double pairwise_damping;          /* TLSPH pairwise numerical damping c_d (0: none) */
     double riemann_limiter_slope;     /* 0: unlimited dissipation */
+    /* compressible: p_b subtracted from p* in the momentum fluxes (the far
+     * field's p_inf unless method.background_pressure is given) */
+    double background_pressure;
+    bool background_pressure_given;
     sph_viscous_regularization viscous_regularization; /* fluids */
     sph_fluid_integrator fluid_integrator;             /* fluids: time.integrator */
     /* contact between bodies (scenes with several bodies, device/sph_contact.h)
@@ -363,10 +367,11 @@ typedef struct {
     char periodic_where[SPH_SCENE_WHERE_LEN]; /* "<file>:<line>: boundary" */
     /* `boundary.far_field`: on the faces of [periodic_lower, periodic_upper]
      * (boundary.lower/upper) across the non-periodic axes, the fluid is
-     * blended toward the free stream (rho_inf, U_inf) after every step
-     * (004's far field; eulerian-sph-reference.md §4) */
+     * blended toward the free stream (rho_inf, U_inf and, for the ideal
+     * gas, p_inf) after every step (004's far field;
+     * eulerian-sph-reference.md §4) */
     bool has_far_field;
-    double far_field_density, far_field_velocity[3];
+    double far_field_density, far_field_velocity[3], far_field_pressure;
     /* `forces`: the force on the wall bodies as drag and lift coefficients,
      * C = 2 F / (rho_ref U_ref^2 L_ref) (004 §4.3), and the summary's
      * mean drag, lift amplitude and Strouhal number over the trailing

@@ -385,11 +385,6 @@ static sph_status parse_role(loader *L, const config_setting_t *b, sph_body *bod
                 sph_formulation_name(f));
         return SPH_OK;
     }
-    if (body->role == SPH_BODY_WALL && f == SPH_FORMULATION_EULERIAN_COMPRESSIBLE)
-        return scene_fail_at(L, role_at, NULL,
-                             "walls of the compressible formulation are not built yet (formulation "
-                             "\"eulerian-compressible\"); wall bodies are implemented for "
-                             "\"eulerian-wc\"");
     const bool wall = body->role == SPH_BODY_WALL;
     body->spacing_ratio = wall ? 0.5 : 1.0;
     if (!spacing_at) return SPH_OK;

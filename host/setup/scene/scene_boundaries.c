@@ -95,7 +95,7 @@ sph_status scene_parse_contact(loader *L, const config_setting_t *root) {
     return SPH_OK;
 }
 
-/* boundary = { periodic = ["x", ...]; far_field = { density; velocity; };
+/* boundary = { periodic = ["x", ...]; far_field = { density; velocity; pressure; };
  *              lower = [...]; upper = [...]; }
  * The fluid wraps around along the periodic axes with the period upper -
  * lower (the seed's Taylor-Green vortex, seed 004 §4.2; the Shu-Osher
@@ -105,20 +105,49 @@ sph_status scene_parse_contact(loader *L, const config_setting_t *root) {
  * no pair meets through two images at once.  The far field (seed 004 §4.3,
  * the public code's NonReflectiveBoundaryCorrection) acts on the faces of
  * the box [lower, upper] across every axis that is not periodic: the fluid
- * there is blended toward the free stream (density, velocity). */
+ * there is blended toward the free stream (density, velocity and, for the
+ * ideal gas, pressure). */
 static sph_status parse_far_field(loader *L, const config_setting_t *ff) {
     sph_scene *sc = L->scene;
-    if (sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE)
-        return scene_fail_at(L, ff, NULL,
-                             "the far field of the compressible formulation is not built yet "
-                             "(formulation \"eulerian-compressible\"); it is implemented for "
-                             "\"eulerian-wc\"");
+    const bool gas = sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE;
+    const config_setting_t *velocity_at = NULL;
     sph_status st;
     if ((st = scene_check_keys(L, ff, SECTIONS("boundary.far_field"))) ||
         (st = scene_number_or(L, ff, SK_FAR_FIELD_DENSITY, sc->materials[0].density,
                               &sc->far_field_density)) ||
-        (st = scene_vector(L, ff, SK_FAR_FIELD_VELOCITY, sc->dim, sc->far_field_velocity, NULL)))
+        (st = scene_vector(L, ff, SK_FAR_FIELD_VELOCITY, sc->dim, sc->far_field_velocity,
+                           &velocity_at)))
         return st;
+    const config_setting_t *p_at = config_setting_get_member(ff, "pressure");
+    if (!gas && p_at)
+        return scene_fail_at(L, p_at, NULL,
+                             "formulation \"eulerian-wc\" derives the free stream's pressure from "
+                             "its density, p = c0^2 (rho - rho0) (seed 004 eq. 11): give density "
+                             "only");
+    if (gas) {
+        if (!p_at)
+            return scene_fail_at(L, ff, "pressure",
+                                 "missing required key: the ideal gas of formulation "
+                                 "\"eulerian-compressible\" needs the free stream's pressure "
+                                 "p_inf");
+        if ((st = scene_number_or(L, ff, SK_FAR_FIELD_PRESSURE, 0.0, &sc->far_field_pressure)))
+            return st;
+        if (!sc->background_pressure_given) sc->background_pressure = sc->far_field_pressure;
+        /* the blend is the subsonic treatment (the public code's): with
+         * |U| >= c every characteristic crosses a face one way, and the
+         * blend would hold a state the flow cannot reach */
+        double speed2 = 0.0;
+        for (int a = 0; a < sc->dim; ++a)
+            speed2 += sc->far_field_velocity[a] * sc->far_field_velocity[a];
+        const double c_inf =
+            sqrt(sc->materials[0].gamma * sc->far_field_pressure / sc->far_field_density);
+        if (!(sqrt(speed2) < c_inf))
+            return scene_fail_at(L, velocity_at, NULL,
+                                 "the far field is a subsonic treatment: the free stream's Mach "
+                                 "number |U_inf| / c_inf = %g / %g = %g must be below 1 (c_inf = "
+                                 "sqrt(gamma p_inf / rho_inf))",
+                                 sqrt(speed2), c_inf, sqrt(speed2) / c_inf);
+    }
     sc->has_far_field = true;
     return SPH_OK;
 }

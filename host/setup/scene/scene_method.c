@@ -186,6 +186,21 @@ sph_status scene_parse_method(loader *L, const config_setting_t *root) {
     if ((st =
              scene_number_or(L, g, SK_METHOD_RIEMANN_LIMITER, limiter, &sc->riemann_limiter_slope)))
         return st;
+    /* The background pressure p_b of the compressible momentum fluxes
+     * (device/eulerian_step.cl, SOLVER_BACKGROUND); the weakly compressible
+     * pressure p = c0^2 (rho - rho0) is already the departure from rho0's */
+    const config_setting_t *background_at = config_setting_get_member(g, "background_pressure");
+    if (background_at && formulation != SPH_FORMULATION_EULERIAN_COMPRESSIBLE)
+        return scene_fail_at(L, background_at, NULL,
+                             "is for the ideal gas (formulation \"eulerian-compressible\"); "
+                             "formulation \"%s\" %s",
+                             sph_formulation_name((sph_formulation)formulation),
+                             formulation == SPH_FORMULATION_EULERIAN_WC
+                                 ? "has p = c0^2 (rho - rho0), already 0 at rest"
+                                 : "has no fluid pressure");
+    sc->background_pressure_given = background_at != NULL;
+    if ((st = scene_number_or(L, g, SK_METHOD_BACKGROUND_PRESSURE, 0.0, &sc->background_pressure)))
+        return st;
     const config_setting_t *visc_at = config_setting_get_member(g, "viscous_regularization");
     if (!eulerian && visc_at)
         return scene_fail_at(L, visc_at, NULL,
