@@ -106,9 +106,9 @@ static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
         walls += wall;
         if ((body->role != SPH_BODY_MATTER && !wall) || !(body->spacing_ratio > 0.0) ||
             body->spacing_ratio > 1.0 || (!wall && body->spacing_ratio != 1.0) ||
-            (wall && (!eulerian || compressible || body->nconstraints != 0 ||
-                      body->velocity.type != SPH_VELOCITY_ZERO || body->initial_density[0] ||
-                      body->initial_pressure[0])))
+            (wall &&
+             (!eulerian || body->nconstraints != 0 || body->velocity.type != SPH_VELOCITY_ZERO ||
+              body->initial_density[0] || body->initial_pressure[0])))
             violate(res, "body %d: role %d, spacing %g, %d constraints, velocity type %d", b,
                     (int)body->role, body->spacing_ratio, body->nconstraints,
                     (int)body->velocity.type);
@@ -158,11 +158,24 @@ static void check_scene(fuzz_scene_result *res, const sph_scene *sc) {
                 violate(res, "far field box axis %d: [%g, %g]", a, sc->periodic_lower[a],
                         sc->periodic_upper[a]);
         }
-        if (!eulerian || compressible || !finite_positive(sc->far_field_density) || !isfinite(u2) ||
+        /* the gas: p_inf given, the stream subsonic; the WC fluid: no p_inf */
+        const bool gas_ok =
+            compressible
+                ? finite_positive(sc->far_field_pressure) &&
+                      u2 < sc->materials[0].gamma * sc->far_field_pressure / sc->far_field_density
+                : sc->far_field_pressure == 0.0;
+        if (!eulerian || !gas_ok || !finite_positive(sc->far_field_density) || !isfinite(u2) ||
             sc->periodic_mask == (1 << sc->dim) - 1)
-            violate(res, "far field: rho %g, |U|^2 %g, periodic mask %d", sc->far_field_density, u2,
-                    sc->periodic_mask);
+            violate(res, "far field: rho %g, |U|^2 %g, p %g, periodic mask %d",
+                    sc->far_field_density, u2, sc->far_field_pressure, sc->periodic_mask);
     }
+    /* the gas's background pressure: finite, >= 0, given where walls bound
+     * the gas without a far field; none in the other formulations */
+    if (!(isfinite(sc->background_pressure) && sc->background_pressure >= 0.0) ||
+        (!compressible && (sc->background_pressure != 0.0 || sc->background_pressure_given)) ||
+        (compressible && walls > 0 && !sc->has_far_field && !sc->background_pressure_given))
+        violate(res, "background pressure %g (given %d, walls %d)", sc->background_pressure,
+                (int)sc->background_pressure_given, walls);
     if (sc->has_forces && (walls < 1 || !finite_positive(sc->force_reference_density) ||
                            !finite_positive(sc->force_reference_speed) ||
                            !finite_positive(sc->force_reference_length) ||
