@@ -1383,11 +1383,13 @@ far_field_blend(const int i, const int n, CONSTANT sph_params *prm, PAIR_ROWS_PA
         const int j = nbr_j[ROW_SLOT(i, k)];
         if (KIND_OF(j) != SPH_PARTICLE_FLUID) continue;
         rho_sum += (real)rho[j];
+#        if SPH_HAS_COMPRESSIBLE
         p_sum += pressure[j];
+#        endif
         v_sum = vec_add(v_sum, vec_load(vel, n, j));
         ++count;
     }
-    (void)p_sum; /* the WC pressure follows from the blended density */
+    (void)p_sum; /* WC: the pressure follows from the blended density */
     vec u_inf;
     UNROLL for (int a = 0; a < SPH_DIM; ++a) u_inf.c[a] = prm->far_field_velocity[a];
     const real rho_inf = prm->far_field_density;
