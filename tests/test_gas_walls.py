@@ -1,16 +1,16 @@
 #!/usr/bin/python3
 """test_gas_walls.py BACKEND — wall bodies in the ideal gas ("eulerian-compressible"): Sod's shock
-reflected by a rigid wall, against the exact solution.
+reflected by a rigid wall (cases/shock_reflection_1d), against the exact solution.
 
-A tube x in [0, 1], closed at both ends by wall bodies (particles at dp/2), a strip of 10 rows
-periodic across (dp = 1/200, 2 480 particles), holds Sod's states (rho, p) = (1, 1) left of
-x = 0.5 and (0.125, 0.1) right of it, at rest, gamma = 1.4, the seed's eta_HLLC = 1, SSP-RK3,
-method.background_pressure = 0.1 (the walls bound the gas without a far field: the scene must
-give it).  The exact Riemann solution sends a shock to the right at 1.75216 into the gas at
-rest; behind it (state 2) p* = 0.303130, u* = 0.927453.  The shock meets the right wall at
-t = 0.28536 and comes back at 1.01019 through state 2, leaving the gas at rest at the state of
-the Rankine-Hugoniot relations for a shock that stops u* (state 5): p5 = 0.780386,
-rho5 = 0.509395 (computed below from the exact solver, not typed in).  At t = 0.38 the
+The case's scene.cfg: a tube x in [0, 1], closed at both ends by wall bodies (particles at
+dp/2), a strip of 10 rows periodic across (dp = 1/200, 2 480 particles), holds Sod's states
+(rho, p) = (1, 1) left of x = 0.5 and (0.125, 0.1) right of it, at rest, gamma = 1.4, the
+seed's eta_HLLC = 1, SSP-RK3, method.background_pressure = 0.1 (the walls bound the gas
+without a far field: the scene must give it).  The exact Riemann solution (the case's
+exact.py) sends a shock to the right at 1.75216 into the gas at rest; behind it (state 2)
+p* = 0.303130, u* = 0.927453.  The shock meets the right wall at t = 0.28536 and comes back at
+1.01019 through state 2, leaving the gas at rest at the state of the Rankine-Hugoniot
+relations for a shock that stops u* (state 5): p5 = 0.780386, rho5 = 0.509395.  At t = 0.38 the
 reflected shock is at x = 0.9044; the contact it will meet at t = 0.4068 is at 0.852.  Checks
 (measured 2026-11-29, native backend, the source of this commit):
 
@@ -21,11 +21,13 @@ reflected shock is at x = 0.9044; the contact it will meet at t = 0.4068 is at 0
 - between x = 0.80 and 0.88 (state 2 and the contact, across which p and u do not jump; the
   reflected shock has not come this far) the pressure within 0.5 % of p* and the velocity
   within 0.5 % of u* (measured 0.30313 and 0.92745);
+- the L1 density error of a row (cases/shock_reflection_1d/plot.py: the mean of |rho -
+  rho_exact(x)| over it) at most 0.02 (measured 0.0171; most of it the zigzag that the left
+  wall leaves where p - p_b = 0.9, README.md);
 - the walls let no mass or energy through and do no work: the total mass and total energy
   stay constant to 1e-12 (measured 2.9e-14 and 2.8e-14 over 443 steps), the momentum across
   the tube at round-off.
 """
-import math
 import os
 import shutil
 import sys
@@ -35,87 +37,30 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sphtest import check, finish, run_quiet, snapshot_paths  # noqa: E402
+from sphtest import SRC, check, finish, run_quiet, snapshot_paths  # noqa: E402
+
+CASE = os.path.join(SRC, "cases", "shock_reflection_1d")
+sys.path.insert(0, CASE)
+from exact import X0, Solution  # noqa: E402
+from plot import measure  # noqa: E402
 
 BACKEND = sys.argv[1] if len(sys.argv) > 1 else "cpu"
-GAMMA = 1.4
-LEFT, RIGHT = (1.0, 1.0), (0.125, 0.1)  # (rho, p), both at rest
-X0, WALL, END = 0.5, 1.0, 0.38
+END = 0.38  # scene.cfg's time.end
 
-TUBE = """title = "Sod's shock reflected by a wall";
-dimension = 2;
-resolution = { dp = 0.005; };
-method = { formulation = "eulerian-compressible"; kernel = "laguerre-gauss";
-           background_pressure = 0.1; };
-time = { end = %.17g; output_interval = 0.02; integrator = "ssp-rk3"; };
-output = { snapshot_interval = %.17g; };
-materials = { gas = { density = 1.0; gamma = 1.4; }; };
-shapes = {
-  tube = { type = "box"; lower = [0.0, 0.0]; upper = [1.0, 0.05]; };
-  left = { type = "box"; lower = [-0.03, 0.0]; upper = [0.0, 0.05]; };
-  right = { type = "box"; lower = [1.0, 0.0]; upper = [1.03, 0.05]; };
-};
-boundary = { periodic = ["y"]; lower = [-0.03, 0.0]; upper = [1.03, 0.05]; };
-bodies = ( { name = "gas"; material = "gas"; shape = "tube";
-             initial_density = "x <= 0.5 ? 1 : 0.125";
-             initial_pressure = "x <= 0.5 ? 1 : 0.1"; },
-           { name = "left"; role = "wall"; shape = "left"; },
-           { name = "right"; role = "wall"; shape = "right"; } );
-""" % (END, END)
-
-
-def wave_jump(p, rho, p_k):
-    """The velocity change across the wave from a side (rho, p_k) to pressure p: a shock
-    (p > p_k) or a rarefaction (Toro, Riemann Solvers, ch. 4)."""
-    if p > p_k:
-        a, b = 2.0 / ((GAMMA + 1.0) * rho), (GAMMA - 1.0) / (GAMMA + 1.0) * p_k
-        return (p - p_k) * math.sqrt(a / (p + b))
-    c = math.sqrt(GAMMA * p_k / rho)
-    return 2.0 * c / (GAMMA - 1.0) * ((p / p_k) ** ((GAMMA - 1.0) / (2.0 * GAMMA)) - 1.0)
-
-
-def solve(f, lo, hi):
-    """The root of the increasing f on [lo, hi], by bisection to round-off."""
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if f(mid) > 0.0 else (mid, hi)
-    return 0.5 * (lo + hi)
-
-
-def shock_density(rho, p_k, p):
-    """The density behind a shock from (rho, p_k) to p (Rankine-Hugoniot)."""
-    m = (GAMMA - 1.0) / (GAMMA + 1.0)
-    return rho * (p / p_k + m) / (m * p / p_k + 1.0)
-
-
-# the exact solution: Sod's star state, then the reflection that stops it
-p_star = solve(lambda p: wave_jump(p, LEFT[0], LEFT[1]) + wave_jump(p, RIGHT[0], RIGHT[1]),
-               1e-6, 10.0)
-u_star = 0.5 * (wave_jump(p_star, RIGHT[0], RIGHT[1]) - wave_jump(p_star, LEFT[0], LEFT[1]))
-rho2 = shock_density(RIGHT[0], RIGHT[1], p_star)
-c_right = math.sqrt(GAMMA * RIGHT[1] / RIGHT[0])
-shock = c_right * math.sqrt((GAMMA + 1.0) / (2.0 * GAMMA) * p_star / RIGHT[1]
-                            + (GAMMA - 1.0) / (2.0 * GAMMA))
-p5 = solve(lambda p: wave_jump(p, rho2, p_star) - u_star, p_star, 50.0)
-rho5 = shock_density(rho2, p_star, p5)
-reflected = rho2 * u_star / (rho2 - rho5)  # mass across it: rho2 (u* - W) = rho5 (0 - W)
-t_hit = (WALL - X0) / shock
-x_reflected = WALL + reflected * (END - t_hit)
-x_contact = X0 + u_star * END
-print(f"exact: p* {p_star:.6f}, u* {u_star:.6f}, shock {shock:.5f}; reflected at t = {t_hit:.5f}, "
-      f"speed {reflected:.5f}; p5 {p5:.6f}, rho5 {rho5:.6f}; at t = {END}: reflected shock "
-      f"x = {x_reflected:.4f}, contact x = {x_contact:.4f}")
+exact = Solution()
+p_star, u_star, p5, rho5 = exact.p_star, exact.u_star, exact.p5, exact.rho5
+x_reflected, x_contact = exact.shock_position(END), X0 + u_star * END
+print(f"exact: p* {p_star:.6f}, u* {u_star:.6f}, shock {exact.shock:.5f}; reflected at t = "
+      f"{exact.t_wall:.5f}, speed {exact.reflected:.5f}; p5 {p5:.6f}, rho5 {rho5:.6f}; at "
+      f"t = {END}: reflected shock x = {x_reflected:.4f}, contact x = {x_contact:.4f}")
 # the windows below lie where the exact solution says they do: the reflected shock between
 # them, not yet at the contact
-assert x_contact < 0.88 < x_reflected < 0.93
+assert END < exact.t_valid and x_contact < 0.88 < x_reflected < 0.93
 
 tmp = tempfile.mkdtemp(prefix="test_gas_walls.")
 try:
-    scene = os.path.join(tmp, "tube.cfg")
-    with open(scene, "w") as f:
-        f.write(TUBE)
     out = os.path.join(tmp, "tube")
-    summ, ts = run_quiet(scene, BACKEND, out)
+    summ, ts = run_quiet(os.path.join(CASE, "scene.cfg"), BACKEND, out)
     if summ is not None:
         with h5py.File(snapshot_paths(out)[-1], "r") as f:
             x = np.asarray(f["VTKHDF/Points"])[:, 0]
@@ -139,6 +84,9 @@ try:
         check(abs(p2 / p_star - 1.0) <= 0.005 and abs(u2 / u_star - 1.0) <= 0.005,
               f"state 2 ahead of the reflected shock: p {p2:.5f}, u {u2:.5f} "
               f"(exact {p_star:.5f}, {u_star:.5f})")
+        # the whole profile: the L1 density error of a row against the exact one
+        l1 = measure(out, exact)["l1_density"]
+        check(l1 <= 0.02, f"the L1 density error {l1:.5f} at most 0.02 (documented 0.0171)")
         for column in ("mass", "total_energy"):
             first, last = float(ts[column][0]), float(ts[column][-1])
             check(abs(last / first - 1.0) <= 1e-12,
