@@ -27,7 +27,9 @@ against an exact Stokes-flow result.
    run's within 1e-3 (measured 4.0e-5, 2026-11-29; to t = 30 the gas gives F / (mu U) = 23.96
    against the weakly compressible 23.94, docs/fluids.md).  Without p_b the wall pairs'
    truncation error, of the order of p0 rather than of the flow's pressure, stopped the gas at
-   t = 0.58 with a negative pressure.
+   t = 0.58 with a negative pressure.  Release build only (HLLC makes it 4 times the weakly
+   compressible run's cost; the gas's walls run under the sanitizers in test_gas_walls.py and
+   test_cylinder.py).
 """
 import math
 import os
@@ -164,7 +166,9 @@ try:
             check(abs(balance) <= 0.01, f"the wall force and the momentum's rate balance gravity "
                   f"within 1 % ({balance:+.3g})")
 
-        # 3. the array as an ideal gas, to t = 3, against U(3) of the run above
+    # 3. the array as an ideal gas, to t = 3, against U(3) of the run above (the release build:
+    # the gas's walls run under the sanitizers in test_gas_walls and test_cylinder)
+    if summ is not None and not SANITIZED:
         u3 = [float(v) for t, v in zip(ts["time"], ts["momentum_x"]) if abs(float(t) - 3.0) < 1e-9]
         p0 = "446.428571428571"  # c = sqrt(1.4 p0 / rho) = 25
         gas = ["method.formulation=eulerian-compressible", "method.background_pressure=" + p0,
