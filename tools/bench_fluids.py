@@ -30,7 +30,8 @@ against resolution and run time of the extended Eulerian SPH, on the native back
              speed, particle-steps per second and the wall time against the issue's target
              (dp = 1/10 to t = 300 in <= 460 s on 2 cores, a tenth of the seed's 4605 s on 8).
              --cyl-boxes large runs it also in a box with twice the seed's upstream length
-             and height (2.6 times the particles), which confines the flow less.
+             and height (2.6 times the particles), which confines the flow less; largest in
+             one of 100 x 90, three times the seed's upstream length and height (6 times).
 
 For each ladder: the observed order per halving, log2(e(dp) / e(dp/2)), and the run time
 (summary.json wall_time_s).  Writes JSON (--json, default bench-results/fluids.json), a
@@ -92,14 +93,17 @@ CYL_END, CYL_WINDOW = 300.0, 100.0  # the seed's end time; the scene's forces.wi
 CYL_SEED = {"mean_drag_coefficient": 1.33, "lift_amplitude": 0.340, "strouhal_number": 0.169}
 CYL_TOLERANCE = {"mean_drag_coefficient": 0.03, "lift_amplitude": 0.10, "strouhal_number": 0.03}
 CYL_SEED_SECONDS = 4605.0  # the seed's dp = 1/10 run to t = 300 on 8 cores
-# The box of the runs (--cyl-boxes): the seed's 25 D x 15 D (scene.cfg), or one with twice its
-# upstream length and twice its height, the outflow face where it was, the cylinder again
-# half-way up (cases/cylinder_flow_2d/README.md, "The box"): the far field holds the free stream
-# on its faces, and the seed's box is close enough to confine the flow
+# The box of the runs (--cyl-boxes): the seed's 25 D x 15 D (scene.cfg), one with twice its
+# upstream length and twice its height, or three times both (50 D x 45 D), the outflow face where
+# it was, the cylinder again half-way up (cases/cylinder_flow_2d/README.md, "The box"): the far
+# field holds the free stream on its faces, and the seed's box is close enough to confine the flow
 CYL_BOXES = {"seed": [],
              "large": ["shapes.box.lower=[-15.0,0.0]", "shapes.box.upper=[50.0,60.0]",
                        "shapes.disc.centre=[15.0,30.0]", "boundary.lower=[-15.0,0.0]",
-                       "boundary.upper=[50.0,60.0]"]}
+                       "boundary.upper=[50.0,60.0]"],
+             "largest": ["shapes.box.lower=[-30.0,0.0]", "shapes.box.upper=[70.0,90.0]",
+                         "shapes.disc.centre=[15.0,45.0]", "boundary.lower=[-30.0,0.0]",
+                         "boundary.upper=[70.0,90.0]"]}
 CYL_TARGET_SECONDS = 460.0  # the target on the 2-core machine
 KERNELS = ["laguerre-gauss", "wendland-c2"]
 KERNEL_LABELS = {"laguerre-gauss": "Laguerre-Gauss", "wendland-c2": "Wendland C2"}
@@ -670,7 +674,8 @@ def markdown(result, args, png_names):
                 "eta = 15, c0 = 10; D = 2 in a 25 D x 15 D box with the far field on every side; "
                 "the cylinder a relaxed wall body at dp/2; CFL 0.5) to t = 300, or the row's end "
                 "(`--cyl-end`); a row marked \"large box\" ran in a box with twice the "
-                "upstream length and height (`--cyl-boxes`).  C_D: the mean drag coefficient, C_L: half the peak-to-peak lift "
+                "upstream length and height, \"largest box\" in one with three times both "
+                "(`--cyl-boxes`).  C_D: the mean drag coefficient, C_L: half the peak-to-peak lift "
                 "coefficient, St: from the mean spacing of C_L's upward crossings, all over the "
                 "row's window, the last 100 s of a run to t = 300 (`summary.json`).  "
                 "Seed (Table 5, Laguerre-Gauss, dp = 1/30): "
@@ -687,7 +692,7 @@ def markdown(result, args, png_names):
             pss = r.get("particle_substeps_per_second")
             out.append(
                 f"| {KERNEL_LABELS.get(r['kernel'], r['kernel'])}, {integrator_of(r)}"
-                f"{', large box' if box_of(r) == 'large' else ''} | "
+                f"{'' if box_of(r) == 'seed' else ', ' + box_of(r) + ' box'} | "
                 f"{dp_label(r['n'])} | {r.get('end', CYL_END):g} ({r.get('window', CYL_WINDOW):g}) | "
                 f"{fmt(r['particles'], 'd')} | {fmt(r['steps'], 'd')} | " +
                 "".join(f"{fmt(r.get(key))} | {fmt(r.get(key + '_deviation'), '+.1%')} | "
@@ -961,7 +966,7 @@ def main():
     ap.add_argument("--cyl-kernels", nargs="+", default=["laguerre-gauss"], choices=KERNELS)
     ap.add_argument("--cyl-boxes", nargs="+", default=["seed"], choices=list(CYL_BOXES),
                     help="the cylinder's box: the seed's 25 D x 15 D (default) and/or one with "
-                         "twice its upstream length and height")
+                         "twice (large) or three times (largest) its upstream length and height")
     ap.add_argument("--cyl-end", type=float, default=CYL_END, metavar="T",
                     help="cylinder end time (default 300, the seed's)")
     ap.add_argument("--cyl-window", type=float, default=None, metavar="W",
