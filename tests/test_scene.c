@@ -1070,7 +1070,7 @@ static const bad_row GAS_BAD[] = {
      "= \"box\"; }",
      NULL,
      "%F:4: method.background_pressure: missing required key: a gas bounded by wall body 'w' "
-     "without a far field needs its ambient pressure p_b"},
+     "without a far field needs the pressure p_b its momentum fluxes are taken relative to"},
     {"background_pressure negative", GAS_FORMULATION,
      "formulation = \"eulerian-compressible\"; background_pressure = -1.0;", NULL,
      "%F:4: method.background_pressure: must be >= 0, got -1"},

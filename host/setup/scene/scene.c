@@ -75,8 +75,9 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
     /* A gas bounded by wall bodies: the wall pairs complete each truncated
      * support's pressure sum only approximately (the walls are relaxed at
      * dp/2), and the momentum fluxes err by p - p_b (device/eulerian_step.cl,
-     * SOLVER_BACKGROUND); without a far field (whose p_inf is the default)
-     * the ambient pressure is the scene's to say. */
+     * SOLVER_BACKGROUND), and below p_b they pull the gas toward themselves;
+     * without a far field (whose p_inf is the default) the lowest pressure
+     * a wall sees is the scene's to say. */
     if (sc->formulation == SPH_FORMULATION_EULERIAN_COMPRESSIBLE && !sc->has_far_field &&
         !sc->background_pressure_given)
         for (int b = 0; b < sc->nbodies; ++b)
@@ -84,9 +85,10 @@ static sph_status parse_scene(loader *L, const config_setting_t *root) {
                 const config_setting_t *method = config_setting_get_member(root, "method");
                 return scene_fail_at(L, method ? method : root, "background_pressure",
                                      "missing required key: a gas bounded by wall body '%s' "
-                                     "without a far field needs its ambient pressure p_b, "
-                                     "which the momentum fluxes are taken relative to (a wall "
-                                     "pair's error is p - p_b: docs/fluids.md)",
+                                     "without a far field needs the pressure p_b its momentum "
+                                     "fluxes are taken relative to: a wall errs by a fraction "
+                                     "of p - p_b and pulls the gas below p_b toward itself, so "
+                                     "give the lowest pressure a wall sees (docs/fluids.md)",
                                      sc->bodies[b].name);
             }
     if ((st = scene_vector(L, root, SK_GRAVITY, sc->dim, sc->gravity, NULL)) ||
