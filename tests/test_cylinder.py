@@ -78,6 +78,18 @@ SMALL = os.path.join(SRC, "cases", "cylinder_flow_2d", "small.cfg")
 BAND = (0.885, 0.902)  # the public code's stored viscous force from t = 10 to 80
 
 
+def cross_check(label, sets):
+    """small.cfg with `sets` on the native backend and on OpenCL: the runs agree to 1e-10."""
+    name = label.replace(" ", "-")
+    a, b = os.path.join(tmp, name + "-native"), os.path.join(tmp, name + "-opencl")
+    code_a, err_a = run_sphsolid(SMALL, "cpu", a, sets)
+    code_b, err_b = run_sphsolid(SMALL, "opencl", b, sets)
+    check(code_a == 0 and code_b == 0, f"{label}: short runs: {code_a} ({err_a}), {code_b} ({err_b})")
+    if code_a == 0 and code_b == 0:
+        p = subprocess.run([BIN, "compare", a, b, "--rtol", "1e-10"], capture_output=True, text=True)
+        check(p.returncode == 0, f"{label}: native and OpenCL agree to 1e-10: " + p.stdout[-600:])
+
+
 def column(ts, name, t):
     rows = [k for k in range(len(ts["time"])) if abs(ts["time"][k] - t) < 1e-9]
     return float(ts[name][rows[0]]) if rows else float("nan")
@@ -155,15 +167,7 @@ try:
 
     # 2. native against OpenCL over the first second
     if BACKEND == "opencl" or not SANITIZED:
-        short = ["time.end=1.0", "time.output_interval=0.5"] + keep
-        a, b = os.path.join(tmp, "native"), os.path.join(tmp, "opencl")
-        code_a, err_a = run_sphsolid(SMALL, "cpu", a, short)
-        code_b, err_b = run_sphsolid(SMALL, "opencl", b, short)
-        check(code_a == 0 and code_b == 0, f"short runs: {code_a} ({err_a}), {code_b} ({err_b})")
-        if code_a == 0 and code_b == 0:
-            p = subprocess.run([BIN, "compare", a, b, "--rtol", "1e-10"], capture_output=True,
-                               text=True)
-            check(p.returncode == 0, "native and OpenCL agree to 1e-10: " + p.stdout[-600:])
+        cross_check("the fluid", ["time.end=1.0", "time.output_interval=0.5"] + keep)
 
     # 3. a uniform stream through far-field faces stays uniform
     scene = os.path.join(tmp, "uniform_stream.cfg")
@@ -209,17 +213,7 @@ try:
         check(speed <= 1e-12, f"the gas at rest around the cylinder: max |v| = {speed:.3g}")
     # (c) native against OpenCL, the gas in a stream over the first second
     if BACKEND == "opencl" or not SANITIZED:
-        short = GAS + ["time.end=1.0", "time.output_interval=0.5"] + keep
-        a, b = os.path.join(tmp, "native-gas"), os.path.join(tmp, "opencl-gas")
-        code_a, err_a = run_sphsolid(SMALL, "cpu", a, short)
-        code_b, err_b = run_sphsolid(SMALL, "opencl", b, short)
-        check(code_a == 0 and code_b == 0,
-              f"short gas runs: {code_a} ({err_a}), {code_b} ({err_b})")
-        if code_a == 0 and code_b == 0:
-            p = subprocess.run([BIN, "compare", a, b, "--rtol", "1e-10"], capture_output=True,
-                               text=True)
-            check(p.returncode == 0, "the gas: native and OpenCL agree to 1e-10: "
-                  + p.stdout[-600:])
+        cross_check("the gas", GAS + ["time.end=1.0", "time.output_interval=0.5"] + keep)
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 
