@@ -601,7 +601,7 @@ KERNEL void eulerian_prepare(ITEM_PARAM const int n, CONSTANT sph_params *prm,
     (void)energy_rate;
     const vec v = vec_load(vel, n, i);
     const real r = (real)rho[i], gamma = prm->materials[0].gamma;
-    energy[i] = vol[i] * (pressure[i] / (gamma - R(1)) + R(0.5) * r * vec_dot(v, v));
+    energy[i] = vol[i] * ideal_gas_energy(pressure[i], r, v, gamma);
     sound_speed[i] = ideal_gas_sound_speed(pressure[i], r, gamma);
 #    else
     (void)vel;
@@ -1413,7 +1413,7 @@ far_field_blend(const int i, const int n, CONSTANT sph_params *prm, PAIR_ROWS_PA
     const real p = s * p_bar + (R(1) - s) * prm->far_field_pressure;
     const real gamma = prm->materials[0].gamma;
     pressure[i] = p;
-    energy[i] = vol[i] * (p / (gamma - R(1)) + R(0.5) * r * vec_dot(v, v));
+    energy[i] = vol[i] * ideal_gas_energy(p, r, v, gamma);
     sound_speed[i] = ideal_gas_sound_speed(p, r, gamma);
 #        else
     pressure[i] = eos_weakly_compressible(r, prm->materials[0].rho0, prm->materials[0].c0);

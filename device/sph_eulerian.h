@@ -66,6 +66,10 @@ FN real eos_weakly_compressible(const real rho, const real rho0, const real c0) 
 FN real eos_ideal_gas(const real energy, const real rho, const vec v, const real gamma) {
     return (gamma - R(1)) * (energy - R(0.5) * rho * vec_dot(v, v));
 }
+/* Its inverse: the total energy per volume E = p / (gamma - 1) + rho |v|^2 / 2. */
+FN real ideal_gas_energy(const real p, const real rho, const vec v, const real gamma) {
+    return p / (gamma - R(1)) + R(0.5) * rho * vec_dot(v, v);
+}
 FN real ideal_gas_sound_speed(const real p, const real rho, const real gamma) {
     return sqrt(gamma * p / rho);
 }
